@@ -1,0 +1,18 @@
+# aslam_add_test(NAME SOURCES src... LIBS lib...): one GoogleTest binary, its
+# cases registered with CTest one by one.
+function(aslam_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE ASLAM_SOURCE_DIR="${ASLAM_SOURCE_DIR}")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 300)
+endfunction()
+
+# aslam_add_benchmark(NAME SOURCES src... LIBS lib...): a Google Benchmark
+# binary; built by default, never run by ctest.
+function(aslam_add_benchmark name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} benchmark::benchmark)
+  target_compile_definitions(${name} PRIVATE ASLAM_SOURCE_DIR="${ASLAM_SOURCE_DIR}")
+endfunction()

@@ -1,0 +1,56 @@
+#pragma once
+
+// Sensor and command value types shared by the algorithm libraries. The LCM
+// translators (`*_lcm.h`) map these to and from the lcmtypes.
+
+#include <cstdint>
+#include <vector>
+
+#include "common/pose2d.h"
+
+namespace aslam {
+
+// A planar lidar sweep. Beam i points at angle_min_rad + i*angle_increment_rad
+// in the sensor frame; range 0 means no return (see lidar_scan_t.lcm).
+struct LidarScan {
+  int64_t utime = 0;
+  int64_t seq = 0;
+  Pose2d sensor_pose;  // sensor in the base frame
+  double angle_min_rad = 0.0;
+  double angle_increment_rad = 0.0;
+  double time_increment_s = 0.0;
+  double range_min_m = 0.0;
+  double range_max_m = 0.0;
+  std::vector<float> range_m;
+
+  double BeamAngle(std::size_t i) const { return angle_min_rad + i * angle_increment_rad; }
+  bool IsValidReturn(std::size_t i) const {
+    const float r = range_m[i];
+    return r >= range_min_m && r <= range_max_m;  // false for 0, NaN and out-of-range values
+  }
+};
+
+// Integrated wheel odometry: the base in the "odom" frame.
+struct Odometry {
+  int64_t utime = 0;
+  int64_t seq = 0;
+  Pose2d pose;
+  double linear_velocity_mps = 0.0;
+  double angular_velocity_radps = 0.0;
+};
+
+struct VelocityCommand {
+  int64_t utime = 0;
+  double linear_mps = 0.0;
+  double angular_radps = 0.0;
+};
+
+// A pose at a time, in a named frame.
+struct StampedPose {
+  int64_t utime = 0;
+  Pose2d pose;
+  double linear_velocity_mps = 0.0;
+  double angular_velocity_radps = 0.0;
+};
+
+}  // namespace aslam

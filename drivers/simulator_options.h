@@ -1,0 +1,54 @@
+#pragma once
+
+// Options of the simulator library. Defaults are the shipped values; they are
+// filled from YAML and validated by LoadSimulatorOptions (sim_config.h).
+
+#include <cmath>
+#include <cstdint>
+
+namespace aslam {
+
+struct LidarOptions {
+  int num_beams = 720;
+  double rate_hz = 10.0;
+  double angle_min_rad = -M_PI;       // first beam, sensor frame
+  double fov_rad = 2.0 * M_PI;        // beams spread over [angle_min, angle_min + fov)
+  double range_min_m = 0.15;
+  double range_max_m = 12.0;
+  double noise_sigma_m = 0.01;        // range noise sigma = noise_sigma_m + noise_sigma_fraction * range
+  double noise_sigma_fraction = 0.005;
+  double dropout_probability = 0.01;  // chance that a beam with a return reports none
+};
+
+struct DiffDriveOptions {
+  double radius_m = 0.20;
+  double max_linear_mps = 0.5;
+  double max_angular_radps = 1.8;
+  double max_linear_accel_mps2 = 1.0;
+  double max_angular_accel_radps2 = 3.0;
+};
+
+// Probabilistic Robotics (Thrun et al.) odometry motion model, table 5.6:
+// rot1, trans, rot2 each perturbed by zero-mean Gaussian noise with variance
+//   rot:   alpha1*rot^2 + alpha2*trans^2
+//   trans: alpha3*trans^2 + alpha4*(rot1^2 + rot2^2)
+struct OdometryNoiseOptions {
+  double alpha1 = 0.02;
+  double alpha2 = 0.005;
+  double alpha3 = 0.01;
+  double alpha4 = 0.005;
+};
+
+struct SimulatorOptions {
+  uint64_t seed = 1;
+  double physics_rate_hz = 100.0;
+  double odometry_rate_hz = 50.0;
+  double truth_rate_hz = 50.0;
+  double status_rate_hz = 1.0;
+  double command_timeout_s = 0.5;     // older commands stop the robot
+  LidarOptions lidar;
+  DiffDriveOptions base;
+  OdometryNoiseOptions odometry_noise;
+};
+
+}  // namespace aslam
