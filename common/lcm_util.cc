@@ -1,0 +1,62 @@
+#include "common/lcm_util.h"
+
+#include <cstdlib>
+#include <stdexcept>
+
+namespace aslam {
+
+std::string ResolveLcmUrl(const std::string& flag_value) {
+  if (!flag_value.empty()) return flag_value;
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  if (env != nullptr && env[0] != '\0') return env;
+  return kDefaultLcmUrl;
+}
+
+std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url) {
+  auto lcm = std::make_unique<lcm::LCM>(url);
+  if (!lcm->good()) {
+    std::string hint;
+    if (url.rfind("udpm://", 0) == 0) {
+      hint = " (udpm needs a multicast route; for loopback only: "
+             "sudo ip link set lo multicast on && sudo ip route add 224.0.0.0/4 dev lo)";
+    }
+    throw std::runtime_error("cannot open LCM on '" + url + "'" + hint);
+  }
+  return lcm;
+}
+
+Subscriptions::~Subscriptions() {
+  for (auto& entry : entries_) lcm_.unsubscribe(entry->subscription);
+}
+
+void Subscriptions::Entry::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  try {
+    switch (decode_and_handle(*rbuf)) {
+      case Outcome::kHandled: ++stats.received; break;
+      case Outcome::kRejected: ++stats.rejected; break;
+      case Outcome::kDecodeFailed: ++stats.decode_failures; break;
+    }
+  } catch (const std::exception& e) {
+    if (stats.handler_errors++ == 0) {
+      std::fprintf(stderr, "%s: handler error, message dropped: %s\n", channel.c_str(), e.what());
+    }
+  } catch (...) {
+    ++stats.handler_errors;
+  }
+}
+
+const ChannelStats& Subscriptions::stats(const std::string& channel) const {
+  static const ChannelStats kNone;
+  for (const auto& entry : entries_) {
+    if (entry->channel == channel) return entry->stats;
+  }
+  return kNone;
+}
+
+int64_t Subscriptions::total_dropped() const {
+  int64_t total = 0;
+  for (const auto& entry : entries_) total += entry->stats.dropped();
+  return total;
+}
+
+}  // namespace aslam

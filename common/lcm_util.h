@@ -1,0 +1,83 @@
+#pragma once
+
+// LCM hosting helpers: which URL to use, and subscriptions that never let a
+// bad message or a throwing handler escape into LCM.
+
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+namespace aslam {
+
+// Loopback-only default: ttl=0 keeps multicast on this host.
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+// The URL from a --lcm-url flag if given, else $LCM_DEFAULT_URL, else kDefaultLcmUrl.
+std::string ResolveLcmUrl(const std::string& flag_value);
+
+// Opens LCM on `url`; throws std::runtime_error naming the URL if it fails
+// (e.g. udpm without a multicast route), with a hint how to fix it.
+std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url);
+
+// What happened to the messages of one channel.
+struct ChannelStats {
+  int64_t received = 0;         // decoded and handled
+  int64_t decode_failures = 0;  // bytes that are not a valid message of the type
+  int64_t rejected = 0;         // decoded, but the handler refused it (invalid content)
+  int64_t handler_errors = 0;   // the handler threw; the message was dropped
+  int64_t dropped() const { return decode_failures + rejected + handler_errors; }
+};
+
+// A node's subscriptions. Each handler gets a decoded message and returns
+// true if it used it, false to drop it as invalid. Nothing thrown while
+// decoding or handling leaves the LCM callback: it is counted instead.
+class Subscriptions {
+ public:
+  explicit Subscriptions(lcm::LCM& lcm) : lcm_(lcm) {}
+  ~Subscriptions();
+  Subscriptions(const Subscriptions&) = delete;
+  Subscriptions& operator=(const Subscriptions&) = delete;
+
+  template <typename MsgT>
+  void Add(const std::string& channel, std::function<bool(const MsgT&)> handler);
+
+  const ChannelStats& stats(const std::string& channel) const;
+  // Sum of dropped() over all channels.
+  int64_t total_dropped() const;
+
+ private:
+  enum class Outcome { kHandled, kRejected, kDecodeFailed };
+  struct Entry {
+    std::string channel;
+    ChannelStats stats;
+    std::function<Outcome(const lcm::ReceiveBuffer&)> decode_and_handle;
+    lcm::Subscription* subscription = nullptr;
+    void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  };
+  lcm::LCM& lcm_;
+  std::vector<std::unique_ptr<Entry>> entries_;
+};
+
+template <typename MsgT>
+void Subscriptions::Add(const std::string& channel, std::function<bool(const MsgT&)> handler) {
+  auto entry = std::make_unique<Entry>();
+  entry->channel = channel;
+  entry->decode_and_handle = [handler = std::move(handler)](const lcm::ReceiveBuffer& rbuf) {
+    MsgT message;
+    if (message.decode(rbuf.data, 0, rbuf.data_size) != static_cast<int>(rbuf.data_size)) {
+      return Outcome::kDecodeFailed;
+    }
+    return handler(message) ? Outcome::kHandled : Outcome::kRejected;
+  };
+  entry->subscription = lcm_.subscribe(channel, &Entry::OnMessage, entry.get());
+  entries_.push_back(std::move(entry));
+}
+
+}  // namespace aslam
