@@ -68,8 +68,9 @@ ConfigReader ConfigReader::FromRoot(YAML::Node root, const std::string& section,
       throw ConfigError(origin + LineOf(entry.first) + ": unknown section '" + name + "'");
     }
   }
-  YAML::Node node = root[section];
-  if (!node.IsDefined() || node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
+  const YAML::Node value = root[section];
+  const YAML::Node node =
+      (!value.IsDefined() || value.IsNull()) ? YAML::Node(YAML::NodeType::Map) : value;
   if (!node.IsMap()) {
     throw ConfigError(origin + LineOf(node) + ": section '" + section + "' must be a mapping, got " +
                       Describe(node));
@@ -185,8 +186,10 @@ void ConfigReader::ReadPositive(const std::string& key, double* value) const {
 }
 
 ConfigReader ConfigReader::Section(const std::string& key) const {
-  YAML::Node node = Get(key);
-  if (!node.IsDefined() || node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
+  const YAML::Node value = Get(key);
+  // A missing key yields an invalid node that must not be assigned to.
+  const YAML::Node node =
+      (!value.IsDefined() || value.IsNull()) ? YAML::Node(YAML::NodeType::Map) : value;
   if (!node.IsMap()) Fail(key, "expected a mapping");
   return ConfigReader(node, file_, KeyPath(key), used_paths_);
 }

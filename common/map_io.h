@@ -20,9 +20,9 @@ class MapFileError : public std::runtime_error {
 enum class MapMode { kTrinary, kScale, kRaw };
 
 struct MapMetadata {
-  std::string image;              // as written in the YAML (relative to the YAML's folder)
+  std::string image;  // as written in the YAML (relative to the YAML's folder)
   double resolution_m = 0.05;
-  Pose2d origin;                  // lower-left pixel's corner in the map frame
+  Pose2d origin;  // lower-left pixel's corner in the map frame
   bool negate = false;
   double occupied_thresh = 0.65;
   double free_thresh = 0.196;
@@ -30,12 +30,19 @@ struct MapMetadata {
 };
 
 struct LoadedMap {
-  OccupancyGrid grid;             // origin taken from the YAML (yaw must be 0)
+  OccupancyGrid grid;  // origin taken from the YAML (yaw must be 0)
   MapMetadata metadata;
-  std::string image_path;         // resolved path of the image file
+  std::string image_path;  // resolved path of the image file
 };
 
-// Loads a map_server YAML and its image. Throws MapFileError on a missing or
+// Loads a map_server YAML and its image. Required keys: image (relative to
+// the YAML's folder unless absolute), resolution, origin; negate,
+// occupied_thresh, free_thresh and mode default to 0, 0.65, 0.196, trinary.
+// Pixels become cells as in ROS map_server: p = (255 - v) / 255 (v / 255 if
+// negate); p > occupied_thresh -> 100, p < free_thresh -> 0, otherwise -1
+// (trinary) or 1 + 98 * (p - free) / (occupied - free) truncated (scale);
+// raw copies v, with bytes above 100 read as unknown. Image row 0 is the top
+// of the map, grid row 0 the bottom. Throws MapFileError on a missing or
 // malformed YAML, a missing key, an out-of-range value (resolution <= 0,
 // thresholds outside [0, 1] or free_thresh >= occupied_thresh, non-zero
 // origin yaw), a missing image or data that is not a decodable image.
