@@ -1,0 +1,88 @@
+// Every shipped config, drive and world loads (DESIGN §7.5), and a drive
+// shipped for a world runs through it without a collision.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/config.h"
+#include "common/map_io.h"
+#include "drivers/scripted_drive.h"
+#include "drivers/sim_config.h"
+#include "drivers/simulator.h"
+#include "worlds/worldgen.h"
+
+namespace aslam {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kRoot = ASLAM_SOURCE_DIR;
+
+std::vector<fs::path> FilesIn(const fs::path& dir, const std::string& extension) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() == extension) files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(ShippedFiles, EveryConfigLoadsEverySection) {
+  const auto configs = FilesIn(kRoot / "config", ".yaml");
+  ASSERT_FALSE(configs.empty());
+  for (const auto& file : configs) {
+    SCOPED_TRACE(file.string());
+    EXPECT_NO_THROW(LoadSimulatorOptions(ConfigReader::FromFile(file.string(), "sim")));
+  }
+}
+
+TEST(ShippedFiles, EveryDriveLoads) {
+  const auto drives = FilesIn(kRoot / "config" / "drives", ".yaml");
+  ASSERT_FALSE(drives.empty());
+  for (const auto& file : drives) {
+    SCOPED_TRACE(file.string());
+    EXPECT_GT(LoadScriptedDrive(file.string()).duration_s(), 0.0);
+  }
+}
+
+TEST(ShippedFiles, EveryWorldLoadsWithAFreeStart) {
+  int worlds = 0;
+  for (const auto& entry : fs::directory_iterator(kRoot / "worlds")) {
+    if (!entry.is_directory()) continue;
+    SCOPED_TRACE(entry.path().string());
+    const WorldInfo world = LoadWorld(entry.path().string());
+    ASSERT_TRUE(world.has_start);
+    const LoadedMap map = LoadMap(world.map_yaml_path);
+    EXPECT_GT(world.free_area_m2, 0.0);
+    // The simulator refuses a start whose disc touches a wall.
+    EXPECT_NO_THROW(Simulator(map.grid, world.start, SimulatorOptions{}));
+    ++worlds;
+  }
+  EXPECT_GE(worlds, 3);
+}
+
+// config/drives/<world>_*.yaml is a drive through worlds/<world>: it must not
+// touch a wall (noise-free odometry is irrelevant; collisions are on truth).
+TEST(ShippedFiles, EveryDriveIsCollisionFreeInItsWorld) {
+  for (const auto& file : FilesIn(kRoot / "config" / "drives", ".yaml")) {
+    const std::string stem = file.stem().string();
+    const std::string world_name = stem.substr(0, stem.find('_'));
+    const fs::path world_dir = kRoot / "worlds" / world_name;
+    if (!fs::exists(world_dir)) continue;
+    SCOPED_TRACE(file.string());
+    const WorldInfo world = LoadWorld(world_dir.string());
+    Simulator simulator(LoadMap(world.map_yaml_path).grid, world.start,
+                        LoadSimulatorOptionsFromFile((kRoot / "config" / "aslam.yaml").string()));
+    const ScriptedDrive drive = LoadScriptedDrive(file.string());
+    while (const auto command = drive.CommandAt(simulator.utime())) {
+      simulator.SetCommand(*command);
+      simulator.Step();
+    }
+    EXPECT_EQ(simulator.collisions(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace aslam

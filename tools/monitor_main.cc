@@ -39,6 +39,7 @@ struct ChannelCount {
 class Monitor {
  public:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    if (channel == "LCM_SELF_TEST") return;  // udpm's own start-up probe
     ChannelCount& count = channels_[channel];
     if (count.type == "?" && rbuf->data_size >= 8) {
       int64_t hash = 0;
@@ -121,6 +122,11 @@ int Run() {
       last_report = now;
     }
     if (finished) break;
+  }
+  if (!(FLAGS_duration > 0)) {
+    std::printf("final:\n");
+    monitor.Report(std::chrono::duration<double>(Clock::now() - last_report).count(),
+                   std::chrono::duration<double>(Clock::now() - start).count());
   }
   return monitor.total_messages() > 0 ? 0 : 3;
 }
