@@ -1,27 +1,11 @@
 #include "drivers/sim_config.h"
 
 #include <cmath>
-#include <sstream>
+#include <stdexcept>
+
+#include "drivers/simulator.h"
 
 namespace aslam {
-namespace {
-
-// Every output rate must be a whole number of physics steps, so scheduling
-// stays in integer microseconds without drift.
-void CheckRateDividesPhysics(const ConfigReader& reader, const std::string& key, double rate_hz,
-                             double physics_rate_hz) {
-  const double steps = physics_rate_hz / rate_hz;
-  const double physics_period_us = 1e6 / physics_rate_hz;
-  if (std::abs(steps - std::round(steps)) > 1e-9 ||
-      std::abs(physics_period_us - std::round(physics_period_us)) > 1e-9) {
-    std::ostringstream problem;
-    problem << "must divide physics_rate_hz (" << physics_rate_hz
-            << ") into a whole number of steps of whole microseconds";
-    reader.Fail(key, problem.str());
-  }
-}
-
-}  // namespace
 
 SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
   SimulatorOptions options;
@@ -31,12 +15,6 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
   sim.ReadInRange("truth_rate_hz", &options.truth_rate_hz, 0.1, 10000.0);
   sim.ReadInRange("status_rate_hz", &options.status_rate_hz, 0.1, 100.0);
   sim.ReadInRange("command_timeout_s", &options.command_timeout_s, 0.01, 60.0);
-  if (std::abs(1e6 / options.physics_rate_hz - std::round(1e6 / options.physics_rate_hz)) > 1e-9) {
-    sim.Fail("physics_rate_hz", "the physics period must be a whole number of microseconds");
-  }
-  CheckRateDividesPhysics(sim, "odometry_rate_hz", options.odometry_rate_hz, options.physics_rate_hz);
-  CheckRateDividesPhysics(sim, "truth_rate_hz", options.truth_rate_hz, options.physics_rate_hz);
-  CheckRateDividesPhysics(sim, "status_rate_hz", options.status_rate_hz, options.physics_rate_hz);
 
   const ConfigReader lidar = sim.Section("lidar");
   LidarOptions& l = options.lidar;
@@ -50,7 +28,6 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
   lidar.ReadInRange("noise_sigma_fraction", &l.noise_sigma_fraction, 0.0, 1.0);
   lidar.ReadInRange("dropout_probability", &l.dropout_probability, 0.0, 1.0);
   if (l.range_min_m >= l.range_max_m) lidar.Fail("range_min_m", "must be below range_max_m");
-  CheckRateDividesPhysics(lidar, "rate_hz", l.rate_hz, options.physics_rate_hz);
 
   const ConfigReader base = sim.Section("base");
   DiffDriveOptions& b = options.base;
@@ -68,6 +45,12 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
   noise.ReadInRange("alpha4", &n.alpha4, 0.0, 10.0);
 
   sim.CheckAllKeysUsed();
+  // Checks across keys (rates that must divide the physics rate) live with the simulator.
+  try {
+    ValidateSimulatorOptions(options);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(sim.file() + ": section sim: " + e.what());
+  }
   return options;
 }
 
