@@ -13,7 +13,6 @@
 #include <gflags/gflags.h>
 
 #include "common/lcm_util.h"
-#include "common/map_io.h"
 #include "drivers/scripted_drive.h"
 #include "drivers/sim_config.h"
 #include "drivers/sim_node.h"
@@ -72,7 +71,7 @@ int Run() {
                    FLAGS_world.c_str());
       return 2;
     }
-    const LoadedMap map = LoadMap(world.map_yaml_path);
+    const LoadedMap& map = world.map;
 
     SimNodeOptions node_options;
     node_options.world_label = FLAGS_world;

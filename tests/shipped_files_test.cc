@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
-#include "common/map_io.h"
 #include "drivers/scripted_drive.h"
 #include "drivers/sim_config.h"
 #include "drivers/simulator.h"
@@ -54,10 +53,9 @@ TEST(ShippedFiles, EveryWorldLoadsWithAFreeStart) {
     SCOPED_TRACE(entry.path().string());
     const WorldInfo world = LoadWorld(entry.path().string());
     ASSERT_TRUE(world.has_start);
-    const LoadedMap map = LoadMap(world.map_yaml_path);
     EXPECT_GT(world.free_area_m2, 0.0);
     // The simulator refuses a start whose disc touches a wall.
-    EXPECT_NO_THROW(Simulator(map.grid, world.start, SimulatorOptions{}));
+    EXPECT_NO_THROW(Simulator(world.map.grid, world.start, SimulatorOptions{}));
     ++worlds;
   }
   EXPECT_GE(worlds, 3);
@@ -73,7 +71,7 @@ TEST(ShippedFiles, EveryDriveIsCollisionFreeInItsWorld) {
     if (!fs::exists(world_dir)) continue;
     SCOPED_TRACE(file.string());
     const WorldInfo world = LoadWorld(world_dir.string());
-    Simulator simulator(LoadMap(world.map_yaml_path).grid, world.start,
+    Simulator simulator(world.map.grid, world.start,
                         LoadSimulatorOptionsFromFile((kRoot / "config" / "aslam.yaml").string()));
     const ScriptedDrive drive = LoadScriptedDrive(file.string());
     while (const auto command = drive.CommandAt(simulator.utime())) {
