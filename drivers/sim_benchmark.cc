@@ -1,11 +1,10 @@
 // Simulator speed: one 720-beam scan in a large world, and simulated seconds
-// per wall second of a bare Simulator::Step loop (no LCM, no other node).
+// per wall second of a bare Simulator::Step loop (no LCM) and of the SimNode
+// publishing on memq:// with no other node.
 //
-//   build-sim/drivers/sim_benchmark [--benchmark_filter=...]
+//   build/drivers/sim_benchmark [--benchmark_filter=...]
 //
-// Uses worlds/campus/map.yaml when it exists and loads, else a synthetic
-// 70 m x 60 m office (1400 x 1200 cells) of rooms, corridors and a hall;
-// SIM_BENCHMARK_WORLD=<map.yaml> or =synthetic chooses.
+// Uses worlds/campus/map.yaml; SIM_BENCHMARK_WORLD=<map.yaml> chooses another.
 
 #include <benchmark/benchmark.h>
 
@@ -22,89 +21,13 @@
 #include "common/map_io.h"
 #include "drivers/lidar.h"
 #include "drivers/sim_world.h"
+#include "common/inproc_host.h"
+#include "drivers/scripted_drive.h"
+#include "drivers/sim_node.h"
 #include "drivers/simulator.h"
 
 namespace aslam {
 namespace {
-
-constexpr double kResolutionM = 0.05;
-
-class OfficeBuilder {
- public:
-  OfficeBuilder() : grid_(1400, 1200, kResolutionM, {0.0, 0.0}, OccupancyGrid::kFree) {}
-
-  // Sets every cell whose centre lies in [x0, x1] x [y0, y1] (metres).
-  void Fill(double x0, double y0, double x1, double y1, int8_t value) {
-    const int c0 = std::max(0, static_cast<int>(std::ceil(x0 / kResolutionM - 0.5)));
-    const int c1 =
-        std::min(grid_.width_cells() - 1, static_cast<int>(std::floor(x1 / kResolutionM - 0.5)));
-    const int r0 = std::max(0, static_cast<int>(std::ceil(y0 / kResolutionM - 0.5)));
-    const int r1 =
-        std::min(grid_.height_cells() - 1, static_cast<int>(std::floor(y1 / kResolutionM - 0.5)));
-    for (int r = r0; r <= r1; ++r) {
-      for (int c = c0; c <= c1; ++c) grid_.at({c, r}) = value;
-    }
-  }
-  void Wall(double x0, double y0, double x1, double y1) { Fill(x0, y0, x1, y1, 100); }
-  void Clear(double x0, double y0, double x1, double y1) { Fill(x0, y0, x1, y1, 0); }
-
-  OccupancyGrid Build() {
-    constexpr double kWall = 0.15, kDoor = 1.0;
-    const double width = grid_.width_m(), height = grid_.height_m();
-    std::mt19937_64 rng(2024);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-
-    // Three horizontal corridors (2.4 m) at y = 10, 30, 50; rooms 6 m wide
-    // between them, back to back along y = 20 and y = 40.
-    for (double corridor_y : {10.0, 30.0, 50.0}) {
-      for (double side : {-1.2, 1.2}) {
-        const double y = corridor_y + side;
-        Wall(0.0, y - kWall / 2, width, y + kWall / 2);
-      }
-    }
-    for (double y : {20.0, 40.0}) Wall(0.0, y - kWall / 2, width, y + kWall / 2);
-    for (double x = 6.0; x < width; x += 6.0) Wall(x - kWall / 2, 0.0, x + kWall / 2, height);
-    // Corridors run through the partitions; a vertical corridor links them.
-    for (double corridor_y : {10.0, 30.0, 50.0})
-      Clear(0.0, corridor_y - 1.1, width, corridor_y + 1.1);
-    Clear(33.8, 0.0, 36.2, height);
-    // Doors from every room to its corridor.
-    for (double x = 0.0; x < width; x += 6.0) {
-      const double door_x = x + 1.0 + 3.5 * unit(rng);
-      for (double corridor_y : {10.0, 30.0, 50.0}) {
-        for (double side : {-1.2, 1.2}) {
-          const double y = corridor_y + side;
-          Clear(door_x, y - kWall, door_x + kDoor, y + kWall);
-        }
-      }
-    }
-    // Desks and cabinets in the rooms.
-    for (int i = 0; i < 600; ++i) {
-      const double x = width * unit(rng), y = height * unit(rng);
-      const bool desk = unit(rng) < 0.7;
-      const double w = desk ? 1.6 : 0.5, h = desk ? 0.8 : 1.2;
-      if (std::abs(y - 10.0) < 2.0 || std::abs(y - 30.0) < 2.0 || std::abs(y - 50.0) < 2.0) {
-        continue;
-      }
-      if (x > 33.0 && x < 37.0) continue;
-      Wall(x, y, x + w, y + h);
-    }
-    // An open hall with pillars: long beams.
-    Clear(44.0, 21.3, 68.0, 38.7);
-    for (double x = 47.0; x < 68.0; x += 5.0) {
-      for (double y = 25.0; y < 38.0; y += 5.0) Wall(x - 0.2, y - 0.2, x + 0.2, y + 0.2);
-    }
-    // Outer walls.
-    Wall(0.0, 0.0, width, kWall);
-    Wall(0.0, height - kWall, width, height);
-    Wall(0.0, 0.0, kWall, height);
-    Wall(width - kWall, 0.0, width, height);
-    return grid_;
-  }
-
- private:
-  OccupancyGrid grid_;
-};
 
 struct BenchWorld {
   std::string name;
@@ -117,19 +40,8 @@ const BenchWorld& GetWorld() {
     auto* result = new BenchWorld;
     const char* const chosen = std::getenv("SIM_BENCHMARK_WORLD");
     const std::string map_yaml = chosen ? chosen : ASLAM_SOURCE_DIR "/worlds/campus/map.yaml";
-    OccupancyGrid grid;
-    if (map_yaml != "synthetic" && std::filesystem::exists(map_yaml)) {
-      try {
-        grid = LoadMap(map_yaml).grid;
-        result->name = std::filesystem::path(map_yaml).parent_path().filename().string();
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "sim_benchmark: %s; using the synthetic office\n", e.what());
-      }
-    }
-    if (grid.empty()) {
-      grid = OfficeBuilder().Build();
-      result->name = "synthetic office";
-    }
+    const OccupancyGrid grid = LoadMap(map_yaml).grid;
+    result->name = std::filesystem::path(map_yaml).parent_path().filename().string();
     result->world = std::make_unique<SimWorld>(grid);
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> ux(grid.origin_m().x_m,
@@ -234,6 +146,30 @@ void BM_SimulatorSecond(benchmark::State& state) {
   state.SetLabel(bench.name);
 }
 BENCHMARK(BM_SimulatorSecond)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+// The in-process hosting: SimNode encodes and publishes every message on
+// memq:// and the host dispatches them, with no other node listening. The
+// robot follows a repeating drive of arcs and turns from a free start.
+void BM_SimNodeSecondInProcess(benchmark::State& state) {
+  const BenchWorld& bench = GetWorld();
+  InProcessHost host;
+  const SimulatorOptions options;
+  Simulator sim(bench.world->map(), bench.poses[0], options);
+  SimNode node(host.lcm(), sim,
+               {bench.name, ScriptedDrive({{4.0, 0.4, 0.2}, {2.0, 0.0, 1.0}}, /*repeat=*/true)});
+  int64_t sim_steps = 0;
+  for (auto _ : state) {
+    for (int step = 0; step < 100; ++step) {
+      node.Tick();
+      host.DispatchPending();
+    }
+    sim_steps += 100;
+  }
+  const double sim_seconds = sim_steps / options.physics_rate_hz;
+  state.counters["realtime_factor"] = benchmark::Counter(sim_seconds, benchmark::Counter::kIsRate);
+  state.SetLabel(bench.name);
+}
+BENCHMARK(BM_SimNodeSecondInProcess)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 void BM_SimWorldConstruction(benchmark::State& state) {
   const BenchWorld& bench = GetWorld();
