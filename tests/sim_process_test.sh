@@ -11,9 +11,7 @@ sim="$build/drivers/aslam-sim"
 monitor="$build/tools/aslam-monitor"
 
 if [[ -z "${ASLAM_IN_NETNS:-}" ]] && unshare -rn true 2>/dev/null; then
-  exec unshare -rn env ASLAM_IN_NETNS=1 bash -c \
-    'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec "$0" "$@"' \
-    "$0" "$@"
+  ASLAM_IN_NETNS=1 exec "$src/scripts/in-private-netns" "$0" "$@"
 fi
 
 url="udpm://239.255.76.67:$((7800 + $$ % 100))?ttl=0"
