@@ -4,10 +4,7 @@
 // bad message or a throwing handler escape into LCM.
 
 #include <cstdint>
-#include <cstdio>
-#include <exception>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
