@@ -1,5 +1,6 @@
 #include "common/lcm_util.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
