@@ -12,6 +12,8 @@
 
 #include <gflags/gflags.h>
 
+#include "common/flags.h"
+
 #include "common/lcm_util.h"
 #include "drivers/scripted_drive.h"
 #include "drivers/sim_config.h"
@@ -125,9 +127,8 @@ int Run() {
 }  // namespace aslam
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
+  aslam::ParseFlags(&argc, &argv,
       "aslam-sim --world DIR|MAP.yaml [--start X,Y,YAW] [--config FILE] [--seed N] [--rate R]\n"
       "          [--duration S] [--drive FILE] [--lcm-url URL]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
   return aslam::Run();
 }

@@ -13,6 +13,8 @@
 #include <string>
 
 #include <gflags/gflags.h>
+
+#include "common/flags.h"
 #include <lcm/lcm-cpp.hpp>
 
 #include "aslam/sim_status_t.hpp"
@@ -135,9 +137,8 @@ int Run() {
 }  // namespace aslam
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
+  aslam::ParseFlags(&argc, &argv,
       "aslam-monitor [--lcm-url URL] [--duration S]: message rate and type per channel.\n"
       "Exits 3 if no message was heard.");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
   return aslam::Run();
 }

@@ -338,7 +338,7 @@ INSTANTIATE_TEST_SUITE_P(Worlds, ShippedWorldTest,
                                            ShippedWorld{"test", 0.0, 150.0, 1}),
                          [](const auto& info) { return std::string(info.param.name); });
 
-// The command line tool: usage, flag errors (exit 2), and a world written.
+// The command line tool: usage, flag errors (exit 1), and a world written.
 int RunWorldgen(const std::string& arguments) {
   const std::string command =
       std::string(ASLAM_WORLDGEN_BIN) + " " + arguments + " > /dev/null 2>&1";
@@ -350,13 +350,13 @@ TEST(WorldgenMainTest, FlagsAndExitCodes) {
   TempDir dir;
   const std::string out = dir.Path("cli");
   EXPECT_EQ(RunWorldgen("--help"), 0);
-  EXPECT_EQ(RunWorldgen("--bogus 1"), 2);
-  EXPECT_EQ(RunWorldgen("--free-area 100 --seed 1"), 2);                    // no --out
-  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area big --seed 1"), 2);  // not a number
-  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed -1"), 2);
-  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed 1 --style castle"), 2);
-  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed 1 --seed 2"), 2);
-  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area"), 2);
+  EXPECT_EQ(RunWorldgen("--bogus 1"), 1);
+  EXPECT_EQ(RunWorldgen("--free-area 100 --seed 1"), 1);                    // no --out
+  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area big --seed 1"), 1);  // not a number
+  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed -1"), 1);
+  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed 1 --style castle"), 1);
+  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area 100 --seed 1 stray"), 1);
+  EXPECT_EQ(RunWorldgen("--out " + out + " --free-area"), 1);
   EXPECT_FALSE(fs::exists(out));
 
   EXPECT_EQ(RunWorldgen("--out " + out + " --style test --free-area=100 --seed 4"), 0);
