@@ -4,6 +4,7 @@
 // keyframe pose, cells along a beam get a miss, the end cell a hit. The grid
 // grows to cover whatever is inserted. Rendered in the ROS convention.
 
+#include <cstdint>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -25,25 +26,51 @@ struct OccupancyMapperOptions {
 
 class OccupancyMapper {
  public:
+  // Throws std::invalid_argument naming the option on a bad value.
   explicit OccupancyMapper(OccupancyMapperOptions options);
 
+  // Forgets every observation but keeps the grid's extent, so re-inserting
+  // all keyframes after a loop closure does not regrow (and recopy) the grid.
   void Clear();
-  // Inserts one scan taken with the base at `base_in_map`.
+  // Inserts one scan taken with the base at `base_in_map`. Each cell changes
+  // at most once per scan and a hit beats a miss, so beams grazing a wall in
+  // the same scan cannot erase it. Range 0 is a beam without a return (see
+  // options); NaN, inf, negative, out-of-[range_min, range_max] and > 100 m
+  // beams are skipped. Aborts on a non-finite pose (a bug upstream).
   void InsertScan(const Pose2d& base_in_map, const LidarScan& scan);
 
-  // -1 never observed, else round(100 * p_occupied).
+  // -1 never observed, else round(100 * p_occupied). Empty grid when empty().
   OccupancyGrid Render() const;
+  // True until a scan observes a cell (again true after Clear()).
   bool empty() const;
 
   const OccupancyMapperOptions& options() const { return options_; }
 
  private:
+  struct BeamEnd {
+    int col;  // grid cell, valid after GrowToCover
+    int row;
+    bool hit;
+  };
+
+  // Grows the grid so the global cells [min, max] fit, with growth_margin_m to spare.
+  void GrowToCover(int min_col, int min_row, int max_col, int max_row);
+
   OccupancyMapperOptions options_;
-  // log-odds per cell, NaN = never observed; grown on demand.
   int width_cells_ = 0;
   int height_cells_ = 0;
-  Point2d origin_m_;
-  std::vector<float> log_odds_;
+  // Global cell index (floor(world / resolution)) of grid cell (0, 0): an
+  // integer, so cells never shift when the grid grows.
+  int origin_col_ = 0;
+  int origin_row_ = 0;
+  struct Cell {
+    float log_odds;  // NaN = never observed
+    uint32_t stamp;  // number of the scan that last changed the cell
+  };
+  std::vector<Cell> cells_;  // row-major; side by side, one cache line per visit
+  uint32_t scan_stamp_ = 0;
+  bool empty_ = true;
+  std::vector<BeamEnd> beam_ends_;       // scratch for InsertScan
 };
 
 }  // namespace aslam

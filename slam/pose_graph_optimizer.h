@@ -34,7 +34,10 @@ class PoseGraphOptimizer {
   explicit PoseGraphOptimizer(PoseGraphOptimizerOptions options);
 
   // Optimizes the node poses of `graph` in place (yaws wrapped afterwards).
-  // A graph with fewer than two nodes or no edges is returned unchanged.
+  // A graph with fewer than two nodes or no edges is returned unchanged, and
+  // so is the graph when Ceres finds no usable solution (`usable` false).
+  // Aborts on a broken invariant: non-dense node ids, an edge to a missing
+  // node or to itself, a non-finite, asymmetric or non-SPD information matrix.
   OptimizationSummary Optimize(PoseGraph* graph) const;
 
   const PoseGraphOptimizerOptions& options() const { return options_; }
@@ -43,8 +46,10 @@ class PoseGraphOptimizer {
   PoseGraphOptimizerOptions options_;
 };
 
-// Whitened squared error rᵀ·I·r of one edge at the graph's current poses,
-// r = (measurement⁻¹ ⊕ (from⁻¹ ⊕ to)) as (x, y, wrapped yaw).
+// Whitened squared error eᵀ·I·e of one edge at the graph's current poses,
+// with e the optimizer's own error (slam/relative_pose_residual.h):
+// e = (R(yaw_from)ᵀ(p_to − p_from) − t_measured, wrap(yaw_to − yaw_from − yaw_measured)).
+// No robust loss applied, so outlying loop closures stand out.
 double EdgeChiSquare(const PoseGraph& graph, const PoseGraphEdge& edge);
 
 }  // namespace aslam
