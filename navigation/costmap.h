@@ -5,7 +5,17 @@
 // one are inscribed (also impassable for the robot's centre), and a decaying
 // cost spreads over a further margin; unknown cells are passable at an extra
 // cost, because frontier goals lie at the edge of the unknown. Distances come
-// from OpenCV's distance transform.
+// from OpenCV's distance transform (exact Euclidean, cell centre to the
+// nearest obstacle cell's centre); unknown cells are not obstacles.
+//
+// Cost of a cell at obstacle distance d (metres):
+//   d == 0                      kLethal
+//   0 < d <= robot_radius       kInscribed
+//   d <= radius + margin        round((kInscribed - 1) * exp(-scale * (d - radius)))
+//   beyond                      kFree
+// An unknown cell keeps this cost (cost() never includes the unknown penalty;
+// the global planner adds options().unknown_cost itself), or reads kNoGo when
+// unknown_passable is false.
 
 #include <cstdint>
 #include <vector>
@@ -16,11 +26,15 @@ namespace aslam {
 
 struct CostmapOptions {
   double robot_radius_m = 0.20;
-  double inflation_margin_m = 0.40;     // decaying cost beyond the robot radius
-  double cost_scaling_per_m = 5.0;      // cost = kInscribed * exp(-scale * (d - radius))
-  int occupied_threshold = 65;          // map cells >= this are obstacles
+  double inflation_margin_m = 0.40;  // decaying cost beyond the robot radius
+  double cost_scaling_per_m = 5.0;   // cost = (kInscribed - 1) * exp(-scale * (d - radius))
+  int occupied_threshold = 65;       // map cells >= this are obstacles (1..100)
   bool unknown_passable = true;
-  int unknown_cost = 50;                // extra cost of entering an unknown cell
+  int unknown_cost = 50;  // extra cost of entering an unknown cell, 0..252,
+                          // on the same scale as cost() (see global_planner.h)
+
+  // Throws std::invalid_argument naming the field and value.
+  void Validate() const;
 };
 
 class Costmap {
@@ -31,6 +45,7 @@ class Costmap {
   static constexpr uint8_t kNoGo = 255;       // unknown while unknown_passable is false
 
   Costmap() = default;
+  // Throws std::invalid_argument for invalid options.
   Costmap(const OccupancyGrid& map, const CostmapOptions& options);
 
   int width_cells() const { return width_cells_; }
@@ -51,9 +66,13 @@ class Costmap {
   // True when the robot's centre may be in this cell.
   bool Traversable(CellIndex cell) const { return cost(cell) < kInscribed; }
   bool IsUnknown(CellIndex cell) const;
-  // Distance from the cell centre to the nearest obstacle cell, metres
-  // (large when there is none).
+  // Distance from the cell centre to the nearest obstacle cell centre, metres
+  // (+inf when the map has no obstacle; 0 off the map).
   double ObstacleDistanceM(CellIndex cell) const;
+
+  // Row-major raw layers (index LinearIndex(cell)), for tight loops.
+  const std::vector<uint8_t>& costs() const { return costs_; }
+  const std::vector<uint8_t>& unknown_mask() const { return unknown_; }  // 1 = unknown
 
   const CostmapOptions& options() const { return options_; }
 

@@ -1,1 +1,268 @@
-// placeholder: being written
+#include "navigation/global_planner.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace aslam {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kSqrt2 = 1.41421356237309504880f;
+constexpr uint16_t kUnknownBit = 1u << 8;
+constexpr uint16_t kEscapeBit = 1u << 9;
+constexpr uint8_t kSettledBit = 1;
+constexpr uint8_t kTargetBit = 2;
+
+template <typename T>
+[[noreturn]] void ThrowBadOption(const std::string& name, T value, const std::string& why) {
+  std::ostringstream message;
+  message << "GlobalPlannerOptions." << name << " = " << value << ": " << why;
+  throw std::invalid_argument(message.str());
+}
+
+}  // namespace
+
+void GlobalPlannerOptions::Validate() const {
+  if (!(cost_weight >= 0.0) || !std::isfinite(cost_weight)) {
+    ThrowBadOption("cost_weight", cost_weight, "must be finite and >= 0");
+  }
+  if (!(start_escape_m >= 0.0) || !std::isfinite(start_escape_m)) {
+    ThrowBadOption("start_escape_m", start_escape_m, "must be finite and >= 0");
+  }
+}
+
+// ---------------------------------------------------------------------------
+// ShortestPathTree
+
+int32_t ShortestPathTree::PaddedIndex(CellIndex cell) const {
+  if (cell.col < 0 || cell.row < 0 || cell.col >= width_cells_ || cell.row >= height_cells_) {
+    return -1;
+  }
+  return (cell.row + 1) * padded_width_ + cell.col + 1;
+}
+
+CellIndex ShortestPathTree::CellOf(int32_t padded_index) const {
+  return {padded_index % padded_width_ - 1, padded_index / padded_width_ - 1};
+}
+
+bool ShortestPathTree::Reachable(CellIndex cell) const {
+  const int32_t p = PaddedIndex(cell);
+  return p >= 0 && (settled_[p] & kSettledBit) != 0;
+}
+
+double ShortestPathTree::CostTo(CellIndex cell) const {
+  return Reachable(cell) ? static_cast<double>(cost_[PaddedIndex(cell)])
+                         : std::numeric_limits<double>::infinity();
+}
+
+double ShortestPathTree::PathLengthM(CellIndex cell) const {
+  return Reachable(cell) ? static_cast<double>(length_cells_[PaddedIndex(cell)]) * resolution_m_
+                         : std::numeric_limits<double>::infinity();
+}
+
+std::optional<GlobalPath> ShortestPathTree::PathTo(CellIndex cell) const {
+  if (!Reachable(cell)) return std::nullopt;
+  const int32_t goal = PaddedIndex(cell);
+  GlobalPath path;
+  for (int32_t p = goal; p >= 0; p = parent_[p]) path.cells.push_back(CellOf(p));
+  std::reverse(path.cells.begin(), path.cells.end());
+  path.points_m.reserve(path.cells.size());
+  for (const CellIndex& c : path.cells) {
+    path.points_m.push_back({origin_m_.x_m + (c.col + 0.5) * resolution_m_,
+                             origin_m_.y_m + (c.row + 0.5) * resolution_m_});
+  }
+  path.length_m = PathLengthM(cell);
+  path.cost = CostTo(cell);
+  return path;
+}
+
+// ---------------------------------------------------------------------------
+// GlobalPlanner
+
+GlobalPlanner::GlobalPlanner(GlobalPlannerOptions options) : options_(options) {
+  options_.Validate();
+}
+
+ShortestPathTree GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
+                                       const std::vector<CellIndex>& targets) const {
+  ShortestPathTree tree;
+  Search(costmap, start, targets, &tree);
+  return tree;
+}
+
+void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
+                           const std::vector<CellIndex>& targets, ShortestPathTree* tree) const {
+  const int width = costmap.width_cells();
+  const int height = costmap.height_cells();
+  const int padded_width = width + 2;
+  const std::size_t padded_size = static_cast<std::size_t>(padded_width) * (height + 2);
+  ShortestPathTree& t = *tree;
+  t.start_ = start;
+  t.width_cells_ = width;
+  t.height_cells_ = height;
+  t.padded_width_ = padded_width;
+  t.resolution_m_ = costmap.resolution_m();
+  t.origin_m_ = costmap.origin_m();
+  t.settled_count_ = 0;
+  t.cost_.assign(padded_size, kInf);
+  t.settled_.assign(padded_size, 0);
+  t.length_cells_.resize(padded_size);  // read only where settled: no reset needed
+  t.parent_.resize(padded_size);
+
+  // Cell classes: the border reads kNoGo, so neighbour loops need no bounds checks.
+  std::vector<uint16_t>& cell_class = t.cell_class_;
+  cell_class.assign(padded_size, Costmap::kNoGo);
+  const std::vector<uint8_t>& costs = costmap.costs();
+  const std::vector<uint8_t>& unknown = costmap.unknown_mask();
+  for (int row = 0; row < height; ++row) {
+    const std::size_t in = static_cast<std::size_t>(row) * width;
+    uint16_t* out = cell_class.data() + static_cast<std::size_t>(row + 1) * padded_width + 1;
+    for (int col = 0; col < width; ++col) {
+      out[col] = static_cast<uint16_t>(costs[in + col] | (unknown[in + col] ? kUnknownBit : 0));
+    }
+  }
+
+  const int32_t start_index = t.PaddedIndex(start);
+  if (start_index < 0) return;
+
+  // Start escape: inscribed cells near a start that is itself not traversable.
+  if (costs[costmap.LinearIndex(start)] >= Costmap::kInscribed && options_.start_escape_m > 0.0) {
+    const double radius_cells = options_.start_escape_m / costmap.resolution_m();
+    const int reach = static_cast<int>(std::floor(radius_cells));
+    for (int dr = -reach; dr <= reach; ++dr) {
+      for (int dc = -reach; dc <= reach; ++dc) {
+        const CellIndex cell{start.col + dc, start.row + dr};
+        if (!costmap.Contains(cell) || dc * dc + dr * dr > radius_cells * radius_cells) continue;
+        if (costmap.cost(cell) == Costmap::kInscribed) {
+          cell_class[t.PaddedIndex(cell)] |= kEscapeBit;
+        }
+      }
+    }
+  }
+
+  // Step multiplier per class: 1 + w * (cost + unknown penalty) / 253, +inf = never enter.
+  std::array<float, 1024> multiplier;
+  const double weight = options_.cost_weight / Costmap::kInscribed;
+  const int unknown_cost = costmap.options().unknown_cost;
+  for (int code = 0; code < 1024; ++code) {
+    const int cell_cost = code & 0xff;
+    const int penalty = (code & kUnknownBit) ? unknown_cost : 0;
+    if (code & kEscapeBit) {
+      multiplier[code] = static_cast<float>(1.0 + weight * (Costmap::kInscribed + penalty));
+    } else if (cell_cost >= Costmap::kInscribed) {
+      multiplier[code] = kInf;
+    } else {
+      multiplier[code] = static_cast<float>(1.0 + weight * (cell_cost + penalty));
+    }
+  }
+
+  // Targets to wait for: on the map and enterable (others can never be settled).
+  std::size_t targets_left = 0;
+  for (const CellIndex& target : targets) {
+    const int32_t p = t.PaddedIndex(target);
+    if (p < 0 || (p != start_index && multiplier[cell_class[p]] == kInf)) continue;
+    if (!(t.settled_[p] & kTargetBit)) {
+      t.settled_[p] |= kTargetBit;
+      ++targets_left;
+    }
+  }
+  const bool stop_early = targets_left > 0;
+
+  float* cost = t.cost_.data();
+  float* length = t.length_cells_.data();
+  int32_t* parent = t.parent_.data();
+  uint8_t* settled = t.settled_.data();
+  const uint16_t* cls = cell_class.data();
+  const float* mult = multiplier.data();
+  // Orthogonal neighbours E, W, N, S; diagonal k lies between orthogonals diag_sides[k].
+  const int32_t orth[4] = {1, -1, padded_width, -padded_width};
+  const int32_t diag[4] = {padded_width + 1, padded_width - 1, -padded_width + 1,
+                           -padded_width - 1};
+  const int diag_sides[4][2] = {{0, 2}, {1, 2}, {0, 3}, {1, 3}};
+
+  // Bucket queue with bucket width 1 = the smallest edge cost (a straight step
+  // into a cost-0 cell): a cell popped from bucket k can only lower costs to
+  // >= k + 1, so every cell in the current bucket already has its final cost
+  // and the bucket may be drained in any order (Dinitz's refinement of Dial's
+  // algorithm). Exact for float costs, O(1) per push and pop. Buckets are used
+  // circularly; there are more of them than the largest edge cost spans.
+  float max_edge = 1.0f;
+  for (float m : multiplier) {
+    if (m != kInf) max_edge = std::max(max_edge, kSqrt2 * m);
+  }
+  std::size_t bucket_count = 4;
+  while (bucket_count < static_cast<std::size_t>(max_edge) + 3) bucket_count *= 2;
+  const std::size_t bucket_mask = bucket_count - 1;
+  std::vector<std::vector<int32_t>>& buckets = t.buckets_;
+  if (buckets.size() < bucket_count) buckets.resize(bucket_count);
+  for (auto& bucket : buckets) bucket.clear();
+  auto bucket_of = [bucket_mask](float c) { return static_cast<std::size_t>(c) & bucket_mask; };
+
+  cost[start_index] = 0.0f;
+  length[start_index] = 0.0f;
+  parent[start_index] = -1;
+  buckets[0].push_back(start_index);
+  std::size_t queued = 1;  // entries in all buckets, stale ones included
+  std::size_t settled_count = 0;
+  bool done = false;
+  for (std::size_t current = 0; queued > 0 && !done; current = (current + 1) & bucket_mask) {
+    std::vector<int32_t>& bucket = buckets[current];
+    for (std::size_t i = 0; i < bucket.size(); ++i) {
+      const int32_t u = bucket[i];
+      --queued;
+      uint8_t& state = settled[u];
+      if (state & kSettledBit) continue;  // a stale entry
+      state |= kSettledBit;
+      ++settled_count;
+      if (stop_early && (state & kTargetBit) && --targets_left == 0) {
+        done = true;
+        break;
+      }
+      const float cost_u = cost[u];
+      const float length_u = length[u];
+      bool open[4];
+      for (int k = 0; k < 4; ++k) {
+        const int32_t v = u + orth[k];
+        const float m = mult[cls[v]];
+        open[k] = m != kInf;
+        const float candidate = cost_u + m;
+        if (candidate < cost[v]) {
+          cost[v] = candidate;
+          length[v] = length_u + 1.0f;
+          parent[v] = u;
+          buckets[bucket_of(candidate)].push_back(v);
+          ++queued;
+        }
+      }
+      for (int k = 0; k < 4; ++k) {
+        if (!open[diag_sides[k][0]] || !open[diag_sides[k][1]]) continue;
+        const int32_t v = u + diag[k];
+        const float candidate = cost_u + kSqrt2 * mult[cls[v]];
+        if (candidate < cost[v]) {
+          cost[v] = candidate;
+          length[v] = length_u + kSqrt2;
+          parent[v] = u;
+          buckets[bucket_of(candidate)].push_back(v);
+          ++queued;
+        }
+      }
+    }
+    bucket.clear();
+  }
+  t.settled_count_ = settled_count;
+}
+
+std::optional<GlobalPath> GlobalPlanner::Plan(const Costmap& costmap, Point2d start_m,
+                                              Point2d goal_m) const {
+  const CellIndex start = costmap.WorldToCell(start_m);
+  const CellIndex goal = costmap.WorldToCell(goal_m);
+  if (!costmap.Contains(start) || !costmap.Traversable(goal)) return std::nullopt;
+  return Search(costmap, start, {goal}).PathTo(goal);
+}
+
+}  // namespace aslam

@@ -1,11 +1,18 @@
 #pragma once
 
 // Dijkstra on the 8-connected costmap. Edge cost = step length in cells
-// (1 or sqrt 2) * (1 + cost_weight * cost/253) of the cell entered, plus the
-// unknown-cell penalty. One search from the robot gives path lengths and
-// paths to any number of targets (what the utility needs per decision); a
-// single-goal query stops as soon as the goal is settled.
+// (1 or sqrt 2) * (1 + cost_weight * c/253), where c is the costmap cost of
+// the cell entered plus, for an unknown cell, CostmapOptions::unknown_cost
+// (the unknown-cell penalty). Only traversable cells (cost < kInscribed) are
+// entered, besides the start escape below; a diagonal step needs both
+// orthogonal neighbours enterable (no corner cutting). One search from the
+// robot gives path lengths and paths to any number of targets (what the
+// utility needs per decision); a single-goal query stops as soon as the goal
+// is settled. Costs are accumulated in float (relative error ~1e-7 per step);
+// the queue is an exact bucket queue (see .cc).
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -15,17 +22,22 @@
 namespace aslam {
 
 struct GlobalPlannerOptions {
-  double cost_weight = 3.0;    // how strongly inflation costs push paths off walls
+  double cost_weight = 3.0;  // how strongly inflation costs push paths off walls
   // A start cell inside the inscribed zone (robot pressed against a wall) may
-  // still be left: the search may cross non-lethal inscribed cells this far.
+  // still be left: the search may cross non-lethal inscribed cells this far
+  // (cell centres within this distance of the start's centre; only when the
+  // start cell itself is not traversable). They cost as a cost-253 cell.
   double start_escape_m = 0.3;
+
+  // Throws std::invalid_argument naming the field and value.
+  void Validate() const;
 };
 
 struct GlobalPath {
-  std::vector<CellIndex> cells;     // start to goal, both included
-  std::vector<Point2d> points_m;    // cell centres of `cells`
-  double length_m = 0.0;            // geometric length along the cells
-  double cost = 0.0;                // accumulated search cost
+  std::vector<CellIndex> cells;   // start to goal, both included
+  std::vector<Point2d> points_m;  // cell centres of `cells`
+  double length_m = 0.0;          // geometric length along the cells
+  double cost = 0.0;              // accumulated search cost
 };
 
 // The result of one search from a start cell: settled costs and parents.
@@ -33,6 +45,8 @@ class ShortestPathTree {
  public:
   ShortestPathTree() = default;
   bool Reachable(CellIndex cell) const;
+  // Reachable = settled by the search (an early-stopped search leaves cells
+  // beyond its targets unreachable).
   // Accumulated search cost to `cell`; +inf when unreachable.
   double CostTo(CellIndex cell) const;
   // Geometric length of the min-cost path to `cell`, metres; +inf when unreachable.
@@ -40,27 +54,46 @@ class ShortestPathTree {
   // The min-cost path to `cell`; nullopt when unreachable.
   std::optional<GlobalPath> PathTo(CellIndex cell) const;
   CellIndex start() const { return start_; }
+  // Cells settled by the search (the start included when on the map).
+  std::size_t settled_count() const { return settled_count_; }
 
  private:
   friend class GlobalPlanner;
+  // Index into the padded arrays (a one-cell border around the map), -1 off the map.
+  int32_t PaddedIndex(CellIndex cell) const;
+  CellIndex CellOf(int32_t padded_index) const;
+
   CellIndex start_;
   int width_cells_ = 0;
   int height_cells_ = 0;
+  int padded_width_ = 0;  // width_cells_ + 2
   double resolution_m_ = 0.05;
   Point2d origin_m_;
-  std::vector<double> cost_;
-  std::vector<float> length_m_;
-  std::vector<int32_t> parent_;  // linear index of the parent, -1 for none
+  std::size_t settled_count_ = 0;
+  // Per padded cell. A cell is settled iff `settled_` is set; cost_ and
+  // length_cells_ of unsettled cells are tentative, parent_ may be stale.
+  std::vector<float> cost_;
+  std::vector<float> length_cells_;  // geometric path length in cells
+  std::vector<int32_t> parent_;      // padded index of the parent, -1 for the start
+  std::vector<uint8_t> settled_;
+  // Search scratch kept so that a reused tree searches without allocating.
+  std::vector<uint16_t> cell_class_;           // cost | unknown << 8 | escape << 9
+  std::vector<std::vector<int32_t>> buckets_;  // the bucket queue
 };
 
 class GlobalPlanner {
  public:
+  // Throws std::invalid_argument for invalid options.
   explicit GlobalPlanner(GlobalPlannerOptions options = {});
 
   // One-to-all search from `start` (stops early once every cell in `targets`
   // is settled, when `targets` is non-empty).
   ShortestPathTree Search(const Costmap& costmap, CellIndex start,
                           const std::vector<CellIndex>& targets = {}) const;
+  // The same, into `tree`, reusing its memory (no allocation after the first
+  // search on a map of the same size).
+  void Search(const Costmap& costmap, CellIndex start, const std::vector<CellIndex>& targets,
+              ShortestPathTree* tree) const;
   // Path from `start` to `goal` in metres ("map"); nullopt when the goal is
   // not traversable or not reachable.
   std::optional<GlobalPath> Plan(const Costmap& costmap, Point2d start_m, Point2d goal_m) const;
