@@ -1,1 +1,96 @@
-// placeholder: being written
+#include "navigation/nav_config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace aslam {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const std::string kShippedConfig = std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    LoadNavOptions(ConfigReader::FromString(yaml, "nav", "test.yaml"));
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(NavConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
+  const NavOptions shipped = LoadNavOptionsFromFile(kShippedConfig);
+  const NavOptions defaults;
+  EXPECT_DOUBLE_EQ(shipped.navigator.goal_tolerance_m, 0.3);
+  EXPECT_DOUBLE_EQ(shipped.navigator.goal_tolerance_m, defaults.navigator.goal_tolerance_m);
+  EXPECT_DOUBLE_EQ(shipped.navigator.replan_period_s, defaults.navigator.replan_period_s);
+  EXPECT_DOUBLE_EQ(shipped.navigator.progress_timeout_s, defaults.navigator.progress_timeout_s);
+  EXPECT_EQ(shipped.navigator.max_recoveries, defaults.navigator.max_recoveries);
+  EXPECT_DOUBLE_EQ(shipped.navigator.recovery.back_off_distance_m,
+                   defaults.navigator.recovery.back_off_distance_m);
+  EXPECT_DOUBLE_EQ(shipped.costmap.robot_radius_m, defaults.costmap.robot_radius_m);
+  EXPECT_DOUBLE_EQ(shipped.costmap.inflation_margin_m, defaults.costmap.inflation_margin_m);
+  EXPECT_EQ(shipped.costmap.unknown_cost, defaults.costmap.unknown_cost);
+  EXPECT_DOUBLE_EQ(shipped.global_planner.cost_weight, defaults.global_planner.cost_weight);
+  EXPECT_DOUBLE_EQ(shipped.local_obstacles.window_m, defaults.local_obstacles.window_m);
+  EXPECT_DOUBLE_EQ(shipped.dwa.horizon_s, 2.0);
+  EXPECT_DOUBLE_EQ(shipped.dwa.max_linear_mps, defaults.dwa.max_linear_mps);
+  EXPECT_DOUBLE_EQ(shipped.dwa.goal_lookahead_m, defaults.dwa.goal_lookahead_m);
+  EXPECT_EQ(shipped.dwa.angular_samples, defaults.dwa.angular_samples);
+  EXPECT_DOUBLE_EQ(shipped.dwa.weight_path_alignment, defaults.dwa.weight_path_alignment);
+  EXPECT_DOUBLE_EQ(shipped.dwa.weight_goal_heading, defaults.dwa.weight_goal_heading);
+  EXPECT_DOUBLE_EQ(shipped.dwa.weight_clearance, defaults.dwa.weight_clearance);
+  EXPECT_DOUBLE_EQ(shipped.dwa.weight_speed, defaults.dwa.weight_speed);
+  EXPECT_EQ(shipped.dwa.escape_inside_margin, defaults.dwa.escape_inside_margin);
+}
+
+TEST(NavConfig, EmptyFileNameGivesDefaults) {
+  EXPECT_DOUBLE_EQ(LoadNavOptionsFromFile("").navigator.goal_tolerance_m, 0.3);
+}
+
+TEST(NavConfig, RobotRadiusFeedsCostmapAndDwa) {
+  const NavOptions options = LoadNavOptions(ConfigReader::FromString(
+      "nav:\n  robot_radius_m: 0.3\n  max_recoveries: 5\n  recovery: {back_off_speed_mps: 0.2}\n"
+      "  costmap: {unknown_passable: false}\n  dwa: {angular_samples: 31}\n",
+      "nav"));
+  EXPECT_DOUBLE_EQ(options.costmap.robot_radius_m, 0.3);
+  EXPECT_DOUBLE_EQ(options.dwa.robot_radius_m, 0.3);
+  EXPECT_EQ(options.navigator.max_recoveries, 5);
+  EXPECT_DOUBLE_EQ(options.navigator.recovery.back_off_speed_mps, 0.2);
+  EXPECT_FALSE(options.costmap.unknown_passable);
+  EXPECT_EQ(options.dwa.angular_samples, 31);
+}
+
+TEST(NavConfig, BadValuesNameFileKeyAndValue) {
+  EXPECT_THAT(
+      ErrorOf("nav:\n  goal_tolerance_m: -1\n"),
+      AllOf(HasSubstr("test.yaml:2"), HasSubstr("nav.goal_tolerance_m"), HasSubstr("'-1'")));
+  EXPECT_THAT(ErrorOf("nav:\n  dwa:\n    horizon_s: soon\n"),
+              AllOf(HasSubstr("test.yaml:3"), HasSubstr("nav.dwa.horizon_s"), HasSubstr("'soon'")));
+  EXPECT_THAT(ErrorOf("nav:\n  dwa: {max_speed: 1}\n"),
+              AllOf(HasSubstr("nav.dwa.max_speed"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("nav:\n  recovery: {back_off_speed_mps: 0}\n"),
+              HasSubstr("nav.recovery.back_off_speed_mps"));
+  EXPECT_THAT(ErrorOf("nav:\n  costmap: {unknown_cost: 300}\n"),
+              AllOf(HasSubstr("nav.costmap.unknown_cost"), HasSubstr("'300'")));
+  EXPECT_THAT(ErrorOf("nav:\n  goal_snap_m: 0.5\n"),
+              AllOf(HasSubstr("nav.goal_snap_m"), HasSubstr("goal_tolerance_m")));
+  EXPECT_THAT(ErrorOf("nav:\n  align_start_rad: 0.2\n"),
+              AllOf(HasSubstr("nav.align_done_rad"), HasSubstr("align_start_rad")));
+  EXPECT_THAT(ErrorOf("nav:\n  dwa: {min_linear_mps: 0.6}\n"),
+              AllOf(HasSubstr("nav.dwa.min_linear_mps"), HasSubstr("max_linear_mps")));
+  // Cross-section: the local window must hold the DWA's longest rollout.
+  EXPECT_THAT(ErrorOf("nav:\n  dwa: {horizon_s: 10}\n"),
+              AllOf(HasSubstr("nav.local_obstacles.window_m"), HasSubstr("horizon_s")));
+  // A check only the component makes, reported against its section.
+  EXPECT_THAT(
+      ErrorOf("nav:\n  local_obstacles: {window_m: 100, resolution_m: 0.005}\n"),
+      AllOf(HasSubstr("test.yaml"), HasSubstr("nav.local_obstacles"), HasSubstr("window_m")));
+}
+
+}  // namespace
+}  // namespace aslam

@@ -1,1 +1,100 @@
-// placeholder: being written
+#include "navigation/nav_node.h"
+
+#include <algorithm>
+
+#include "aslam/velocity_command_t.hpp"
+#include "common/channels.h"
+#include "common/types_lcm.h"
+#include "navigation/nav_lcm.h"
+
+namespace aslam {
+namespace {
+
+constexpr int64_t kStatusHeartbeatUs = 1'000'000;
+
+}  // namespace
+
+NavNode::NavNode(lcm::LCM& lcm, NavOptions options)
+    : lcm_(lcm), navigator_(std::move(options)), subscriptions_(lcm) {
+  subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
+  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap,
+                                       [this](const occupancy_grid_t& m) { return OnMap(m); });
+  subscriptions_.Add<lidar_scan_t>(channels::kLidarScan,
+                                   [this](const lidar_scan_t& m) { return OnScan(m); });
+  subscriptions_.Add<explore_goal_t>(channels::kExploreGoal,
+                                     [this](const explore_goal_t& m) { return OnGoal(m); });
+}
+
+void NavNode::NoteTime(int64_t utime) { latest_utime_ = std::max(latest_utime_, utime); }
+
+bool NavNode::OnPose(const pose_t& msg) {
+  const auto pose = MapPoseFromLcm(msg);
+  if (!pose) return false;
+  NoteTime(pose->utime);
+  navigator_.SetPose(*pose);
+  // Without scans there are no control cycles; keep NAV_STATUS alive anyway.
+  if (pose->utime - last_status_utime_ >= kStatusHeartbeatUs) {
+    NavStatus status = navigator_.status();
+    status.utime = pose->utime;
+    PublishStatus(status);
+  }
+  return true;
+}
+
+bool NavNode::OnMap(const occupancy_grid_t& msg) {
+  const auto map = MapFromLcm(msg);
+  if (!map) return false;
+  NoteTime(msg.utime);
+  navigator_.SetMap(*map);
+  return true;
+}
+
+bool NavNode::OnScan(const lidar_scan_t& msg) {
+  const auto scan = FromLcm(msg);
+  if (!scan) return false;
+  NoteTime(scan->utime);
+  navigator_.SetScan(*scan);
+  const NavOutput out = navigator_.Step(scan->utime);
+  const velocity_command_t command = ToLcm(out.command);
+  lcm_.publish(channels::kCmdVel, &command);
+  ++commands_published_;
+  PublishStatus(out.status);
+  PublishPathIfChanged(scan->utime);
+  return true;
+}
+
+bool NavNode::OnGoal(const explore_goal_t& msg) {
+  const auto request = FromLcm(msg);
+  if (!request) return false;
+  NoteTime(request->utime);
+  if (request->cancel) {
+    navigator_.Cancel(request->goal_id, request->utime);
+  } else {
+    navigator_.SetGoal(request->goal_id, request->goal_m, request->utime);
+  }
+  PublishStatus(navigator_.status());
+  PublishPathIfChanged(request->utime);
+  return true;
+}
+
+void NavNode::PublishStatus(const NavStatus& status) {
+  const nav_status_t msg = ToLcm(status);
+  lcm_.publish(channels::kNavStatus, &msg);
+  last_status_utime_ = status.utime;
+}
+
+void NavNode::PublishPathIfChanged(int64_t utime) {
+  if (navigator_.path_revision() == published_path_revision_) return;
+  published_path_revision_ = navigator_.path_revision();
+  const nav_path_t msg = PathToLcm(utime, navigator_.status().goal_id, navigator_.path_m(),
+                                   navigator_.path_length_m());
+  lcm_.publish(channels::kNavPath, &msg);
+}
+
+void NavNode::PublishStop() {
+  const velocity_command_t command = ToLcm(VelocityCommand{latest_utime_, 0.0, 0.0});
+  lcm_.publish(channels::kCmdVel, &command);
+  ++commands_published_;
+}
+
+}  // namespace aslam

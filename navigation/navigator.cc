@@ -1,1 +1,484 @@
-// placeholder: being written
+#include "navigation/navigator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+
+namespace aslam {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double Distance(Point2d a, Point2d b) { return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m); }
+Point2d Position(const Pose2d& pose) { return {pose.x_m, pose.y_m}; }
+int64_t Micros(double seconds) { return static_cast<int64_t>(std::llround(seconds * 1e6)); }
+
+__attribute__((format(printf, 1, 2))) std::string Format(const char* format, ...) {
+  char text[200];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof(text), format, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
+
+const char* NavStateName(NavState state) {
+  switch (state) {
+    case NavState::kIdle:
+      return "idle";
+    case NavState::kActive:
+      return "active";
+    case NavState::kReached:
+      return "reached";
+    case NavState::kFailed:
+      return "failed";
+    case NavState::kUnreachable:
+      return "unreachable";
+  }
+  return "?";
+}
+
+const char* RecoveryPhaseName(RecoveryPhase phase) {
+  switch (phase) {
+    case RecoveryPhase::kNone:
+      return "none";
+    case RecoveryPhase::kRotate:
+      return "rotate";
+    case RecoveryPhase::kBackOff:
+      return "back_off";
+  }
+  return "?";
+}
+
+Navigator::Navigator(NavOptions options)
+    : options_(std::move(options)), planner_(options_.global_planner), dwa_(options_.dwa) {}
+
+void Navigator::SetMap(const OccupancyGrid& map) {
+  map_ = map;
+  has_map_ = true;
+  costmap_current_ = false;
+  UpdateScanMarks();
+  if (has_path_ && PathBlocked()) replan_due_ = true;
+}
+
+void Navigator::UpdateScanMarks() {
+  std::vector<std::size_t> cells;
+  const double range_m = options_.navigator.scan_mark_range_m;
+  if (range_m > 0.0 && pose_) {
+    const Point2d robot = Position(pose_->pose);
+    const int threshold = options_.costmap.occupied_threshold;
+    // A return within this many cells of a mapped obstacle is that obstacle
+    // (range noise); marking it would only thicken walls and bend paths.
+    constexpr int kExplainedCells = 2;
+    for (const Point2d& p : scan_points_m_) {
+      const CellIndex cell = map_.WorldToCell(p);
+      if (!map_.Contains(cell) || Distance(p, robot) > range_m) continue;
+      bool explained = false;
+      for (int dr = -kExplainedCells; dr <= kExplainedCells && !explained; ++dr) {
+        for (int dc = -kExplainedCells; dc <= kExplainedCells && !explained; ++dc) {
+          explained = map_.ValueOr({cell.col + dc, cell.row + dr}, 0) >= threshold;
+        }
+      }
+      if (!explained) cells.push_back(map_.LinearIndex(cell));
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  }
+  // The costmap is a full distance transform: rebuild only when the marks change.
+  if (costmap_current_ && cells == marked_cells_) return;
+  costmap_current_ = true;
+  marked_cells_ = std::move(cells);
+  OccupancyGrid marked = map_;
+  for (std::size_t index : marked_cells_) marked.mutable_cells()[index] = OccupancyGrid::kOccupied;
+  costmap_ = Costmap(marked, options_.costmap);
+}
+
+void Navigator::SetPose(const StampedPose& pose) { pose_ = pose; }
+
+void Navigator::SetScan(const LidarScan& scan) {
+  scan_points_m_.clear();
+  scan_utime_ = scan.utime;
+  if (!pose_) return;
+  const Pose2d sensor_in_map = pose_->pose.Compose(scan.sensor_pose);
+  for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
+    if (!scan.IsValidReturn(i)) continue;
+    const double angle_rad = scan.BeamAngle(i);
+    const double range_m = scan.range_m[i];
+    scan_points_m_.push_back(
+        sensor_in_map.Transform({range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)}));
+  }
+}
+
+void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
+  if (goal_id == status_.goal_id) {
+    // Re-sent goals are common (full-state publishers); only a moved goal counts.
+    if (Distance(goal_m, status_.goal_m) < 1e-6) return;
+  } else {
+    status_.recoveries_used = 0;
+  }
+  status_.goal_id = goal_id;
+  status_.goal_m = goal_m;
+  status_.state = NavState::kActive;
+  status_.recovery = RecoveryPhase::kNone;
+  status_.distance_remaining_m = -1.0;
+  status_.detail.clear();
+  status_.utime = utime;
+  ClearPath();
+  replan_due_ = true;
+  dwa_failures_ = 0;
+  aligning_ = false;
+  ResetProgress(utime);
+}
+
+bool Navigator::Cancel(int64_t goal_id, int64_t utime) {
+  if (goal_id != status_.goal_id) return false;
+  status_.utime = utime;
+  Stop(NavState::kIdle, "cancelled");
+  return true;
+}
+
+void Navigator::ClearPath() {
+  if (has_path_ || !path_m_.empty()) ++path_revision_;
+  has_path_ = false;
+  path_m_.clear();
+  path_suffix_m_.clear();
+  path_length_m_ = 0.0;
+  path_index_ = 0;
+}
+
+void Navigator::Stop(NavState state, const std::string& detail) {
+  status_.state = state;
+  status_.recovery = RecoveryPhase::kNone;
+  status_.detail = detail;
+  if (state != NavState::kReached) status_.distance_remaining_m = -1.0;
+  ClearPath();
+  last_velocity_ = {};
+}
+
+void Navigator::ResetProgress(int64_t utime) {
+  best_remaining_m_ = kInf;
+  last_progress_utime_ = utime;
+}
+
+bool Navigator::PathBlocked() const {
+  // Cells near the path's start may be inscribed on purpose (the planner's start escape).
+  for (std::size_t i = path_index_; i < path_m_.size(); ++i) {
+    const bool in_start_escape =
+        path_length_m_ - path_suffix_m_[i] <= options_.global_planner.start_escape_m;
+    if (!in_start_escape && !costmap_.Traversable(costmap_.WorldToCell(path_m_[i]))) return true;
+  }
+  return false;
+}
+
+bool Navigator::Replan(int64_t utime) {
+  ++replans_;
+  replan_due_ = false;
+  last_plan_utime_ = utime;
+  if (utime - scan_utime_ <= Micros(options_.navigator.pose_timeout_s)) UpdateScanMarks();
+  const Point2d goal = status_.goal_m;
+  const Point2d robot = Position(pose_->pose);
+  const CellIndex goal_cell = costmap_.WorldToCell(goal);
+  if (!costmap_.Contains(goal_cell)) {
+    Stop(NavState::kUnreachable,
+         Format("goal (%.2f, %.2f) is outside the map", goal.x_m, goal.y_m));
+    return false;
+  }
+  Point2d target = goal;
+  if (!costmap_.Traversable(goal_cell)) {
+    if (costmap_.cost(goal_cell) >= Costmap::kLethal) {
+      Stop(NavState::kUnreachable,
+           Format("goal (%.2f, %.2f) is in an obstacle", goal.x_m, goal.y_m));
+      return false;
+    }
+    // In the inflated zone: plan to the nearest cell the robot's centre may occupy.
+    const int reach =
+        static_cast<int>(std::ceil(options_.navigator.goal_snap_m / costmap_.resolution_m()));
+    double best_m = kInf;
+    for (int dr = -reach; dr <= reach; ++dr) {
+      for (int dc = -reach; dc <= reach; ++dc) {
+        const CellIndex cell{goal_cell.col + dc, goal_cell.row + dr};
+        if (!costmap_.Traversable(cell)) continue;
+        const double d = Distance(costmap_.CellCenter(cell), goal);
+        if (d <= options_.navigator.goal_snap_m && d < best_m) {
+          best_m = d;
+          target = costmap_.CellCenter(cell);
+        }
+      }
+    }
+    if (best_m == kInf) {
+      Stop(NavState::kUnreachable,
+           Format("goal (%.2f, %.2f) is too close to an obstacle for the robot", goal.x_m,
+                  goal.y_m));
+      return false;
+    }
+  }
+  std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, target);
+  if (!path || path->points_m.empty()) {
+    Stop(NavState::kUnreachable,
+         Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,
+                robot.y_m, goal.x_m, goal.y_m));
+    return false;
+  }
+  path_m_ = std::move(path->points_m);
+  path_suffix_m_.assign(path_m_.size(), 0.0);
+  for (std::size_t i = path_m_.size() - 1; i-- > 0;) {
+    path_suffix_m_[i] = path_suffix_m_[i + 1] + Distance(path_m_[i], path_m_[i + 1]);
+  }
+  path_length_m_ = path_suffix_m_.front();
+  path_index_ = 0;
+  has_path_ = true;
+  ++path_revision_;
+  // A detour makes the remaining distance jump up; progress is judged from there.
+  const double remaining = DistanceRemainingM();
+  if (best_remaining_m_ != kInf && remaining > best_remaining_m_) best_remaining_m_ = remaining;
+  return true;
+}
+
+void Navigator::AdvancePathIndex() {
+  if (!has_path_) return;
+  // Look a bounded stretch ahead only, so a path passing near itself cannot make the index jump.
+  const Point2d robot = Position(pose_->pose);
+  const double window_m = options_.navigator.path_lookahead_m + 1.0;
+  double best_m = Distance(robot, path_m_[path_index_]);
+  std::size_t best = path_index_;
+  for (std::size_t i = path_index_ + 1; i < path_m_.size(); ++i) {
+    if (path_suffix_m_[path_index_] - path_suffix_m_[i] > window_m) break;
+    const double d = Distance(robot, path_m_[i]);
+    if (d < best_m) {
+      best_m = d;
+      best = i;
+    }
+  }
+  path_index_ = best;
+}
+
+double Navigator::DistanceRemainingM() const {
+  if (!has_path_) return -1.0;
+  return path_suffix_m_[path_index_] + Distance(Position(pose_->pose), path_m_[path_index_]);
+}
+
+std::vector<Point2d> Navigator::PathAhead() const {
+  std::vector<Point2d> ahead;
+  for (std::size_t i = path_index_; i < path_m_.size(); ++i) {
+    ahead.push_back(path_m_[i]);
+    if (path_suffix_m_[path_index_] - path_suffix_m_[i] >= options_.navigator.path_lookahead_m)
+      break;
+  }
+  return ahead;
+}
+
+double Navigator::PathHeadingRad() const {
+  const Point2d robot = Position(pose_->pose);
+  Point2d toward = status_.goal_m;
+  if (has_path_) {
+    // About a metre along the path: far enough to see past the cell the robot is on.
+    toward = path_m_.back();
+    for (std::size_t i = path_index_; i < path_m_.size(); ++i) {
+      if (path_suffix_m_[path_index_] - path_suffix_m_[i] >= 1.0) {
+        toward = path_m_[i];
+        break;
+      }
+    }
+  }
+  if (Distance(robot, toward) < 1e-6) return pose_->pose.yaw_rad;
+  return std::atan2(toward.y_m - robot.y_m, toward.x_m - robot.x_m);
+}
+
+bool Navigator::RearClear(const LocalObstacles& obstacles) const {
+  const Pose2d& pose = pose_->pose;
+  const double current_m = obstacles.ClearanceM(Position(pose));
+  // Safe, or at least moving away from whatever the robot is pressed against.
+  const double needed_m = std::min(
+      options_.costmap.robot_radius_m + options_.navigator.recovery.rear_clearance_margin_m,
+      current_m + 0.005);
+  for (double s = 0.05; s <= 0.151; s += 0.05) {
+    const Point2d p{pose.x_m - s * std::cos(pose.yaw_rad), pose.y_m - s * std::sin(pose.yaw_rad)};
+    if (obstacles.ClearanceM(p) < needed_m) return false;
+  }
+  return true;
+}
+
+double Navigator::ChooseBackOffHeading(const LocalObstacles& obstacles) const {
+  const Pose2d& pose = pose_->pose;
+  const Point2d robot = Position(pose);
+  const RecoveryOptions& r = options_.navigator.recovery;
+  const double current_m = obstacles.ClearanceM(robot);
+  const double needed_m =
+      std::min(options_.costmap.robot_radius_m + r.rear_clearance_margin_m, current_m + 0.005);
+  const double back_off_m = std::max(r.back_off_distance_m, 0.05);
+  const double path_heading_rad = PathHeadingRad();
+  constexpr int kHeadings = 16;
+  double best_score = -kInf;
+  double best_yaw_rad = pose.yaw_rad;
+  for (int k = 0; k < kHeadings; ++k) {
+    const double turn_rad = WrapAngle(k * 2.0 * M_PI / kHeadings);
+    const double yaw_rad = WrapAngle(pose.yaw_rad + turn_rad);
+    const Point2d back{-std::cos(yaw_rad), -std::sin(yaw_rad)};
+    bool feasible = true;
+    for (double s = 0.05; s <= back_off_m + 1e-9 && feasible; s += 0.05) {
+      feasible =
+          obstacles.ClearanceM({robot.x_m + s * back.x_m, robot.y_m + s * back.y_m}) >= needed_m;
+    }
+    if (!feasible) continue;
+    const Point2d end{robot.x_m + back_off_m * back.x_m, robot.y_m + back_off_m * back.y_m};
+    // Clearance gained first, then facing the path after backing off, then a short turn.
+    const double score = std::min(obstacles.ClearanceM(end), 1.0) +
+                         0.3 * std::cos(WrapAngle(yaw_rad - path_heading_rad)) -
+                         0.05 * std::abs(turn_rad) / M_PI;
+    if (score > best_score) {
+      best_score = score;
+      best_yaw_rad = yaw_rad;
+    }
+  }
+  return best_yaw_rad;
+}
+
+void Navigator::StartRecovery(int64_t utime, const std::string& reason,
+                              const LocalObstacles& obstacles) {
+  const NavigatorOptions& n = options_.navigator;
+  if (status_.recoveries_used >= n.max_recoveries) {
+    Stop(NavState::kFailed,
+         reason + " after " + std::to_string(status_.recoveries_used) + " recoveries");
+    return;
+  }
+  ++status_.recoveries_used;
+  aligning_ = false;
+  status_.recovery = RecoveryPhase::kRotate;
+  recovery_reason_ = reason;
+  status_.detail = "recovering: " + reason;
+  phase_start_utime_ = utime;
+  rotate_target_yaw_rad_ = ChooseBackOffHeading(obstacles);
+}
+
+VelocityCommand Navigator::StepRecovery(int64_t utime, const LocalObstacles& obstacles) {
+  const RecoveryOptions& r = options_.navigator.recovery;
+  const Pose2d& pose = pose_->pose;
+  VelocityCommand command;
+  command.utime = utime;
+  if (status_.recovery == RecoveryPhase::kRotate) {
+    const double error_rad = WrapAngle(rotate_target_yaw_rad_ - pose.yaw_rad);
+    // Turning at most half a turn; the limit covers a base that cannot turn.
+    const int64_t limit_us = Micros(M_PI / r.rotate_speed_radps + 3.0);
+    if (std::abs(error_rad) > r.rotate_aligned_rad && utime - phase_start_utime_ <= limit_us) {
+      // Proportional near the target so the base's angular deceleration does not overshoot.
+      const double speed = std::clamp(1.5 * std::abs(error_rad), 0.2, r.rotate_speed_radps);
+      command.angular_radps = std::copysign(speed, error_rad);
+      return command;
+    }
+    status_.recovery = RecoveryPhase::kBackOff;
+    phase_start_utime_ = utime;
+    back_off_start_m_ = Position(pose);
+  }
+  const int64_t limit_us = Micros(r.back_off_distance_m / r.back_off_speed_mps + 2.0);
+  if (Distance(Position(pose), back_off_start_m_) < r.back_off_distance_m &&
+      utime - phase_start_utime_ <= limit_us && RearClear(obstacles)) {
+    command.linear_mps = -r.back_off_speed_mps;
+    return command;
+  }
+  // Done: replan from here and retry.
+  status_.recovery = RecoveryPhase::kNone;
+  status_.detail.clear();
+  replan_due_ = true;
+  dwa_failures_ = 0;
+  ResetProgress(utime);
+  return command;
+}
+
+std::optional<VelocityCommand> Navigator::Align(int64_t utime, const LocalObstacles& obstacles) {
+  const NavigatorOptions& n = options_.navigator;
+  const Pose2d& pose = pose_->pose;
+  const double error_rad = WrapAngle(PathHeadingRad() - pose.yaw_rad);
+  aligning_ = std::abs(error_rad) > (aligning_ ? n.align_done_rad : n.align_start_rad);
+  if (!aligning_) return std::nullopt;
+  // Brake straight at the DWA's deceleration, if the little stretch that takes is free.
+  const DwaOptions& d = options_.dwa;
+  const double v_mps =
+      std::max(0.0, last_velocity_.linear_mps - d.max_linear_accel_mps2 * d.control_period_s);
+  const double stop_m = v_mps * d.control_period_s + 0.5 * v_mps * v_mps / d.max_linear_accel_mps2;
+  for (double s = 0.0; s <= stop_m + 1e-9; s += 0.025) {
+    const Point2d p{pose.x_m + s * std::cos(pose.yaw_rad), pose.y_m + s * std::sin(pose.yaw_rad)};
+    if (obstacles.ClearanceM(p) < d.robot_radius_m) {
+      aligning_ = false;  // the DWA knows how to brake along its arc
+      return std::nullopt;
+    }
+  }
+  const double speed_radps = std::clamp(1.5 * std::abs(error_rad), 0.3, n.align_speed_radps);
+  return VelocityCommand{utime, v_mps, std::copysign(speed_radps, error_rad)};
+}
+
+NavOutput Navigator::Step(int64_t utime) {
+  NavOutput out;
+  out.command.utime = utime;
+  status_.utime = utime;
+  const NavigatorOptions& n = options_.navigator;
+  auto finish = [&](const VelocityCommand& command) {
+    out.command = command;
+    out.command.utime = utime;
+    last_velocity_ = {command.linear_mps, command.angular_radps};
+    out.status = status_;
+    return out;
+  };
+  if (status_.state != NavState::kActive) return finish({});
+  if (!has_map_ || !pose_) {
+    status_.detail = !has_map_ ? "waiting for a map" : "waiting for a pose";
+    return finish({});
+  }
+  if (utime - pose_->utime > Micros(n.pose_timeout_s)) {
+    status_.detail = Format("pose is stale (%.2f s old)", (utime - pose_->utime) * 1e-6);
+    return finish({});
+  }
+  // Inputs are fine (again): the detail says what the navigator is doing.
+  status_.detail =
+      status_.recovery == RecoveryPhase::kNone ? "" : "recovering: " + recovery_reason_;
+
+  const Point2d robot = Position(pose_->pose);
+  if (Distance(robot, status_.goal_m) <= n.goal_tolerance_m) {
+    const double remaining_m = has_path_ ? DistanceRemainingM() : Distance(robot, status_.goal_m);
+    Stop(NavState::kReached, "");
+    status_.distance_remaining_m = remaining_m;
+    return finish({});
+  }
+
+  if (status_.recovery == RecoveryPhase::kNone &&
+      (replan_due_ || !has_path_ || utime - last_plan_utime_ >= Micros(n.replan_period_s))) {
+    out.replanned = true;
+    if (!Replan(utime)) return finish({});
+  }
+  AdvancePathIndex();
+  status_.distance_remaining_m = DistanceRemainingM();
+
+  static const std::vector<Point2d> kNoPoints;
+  const bool scan_fresh = utime - scan_utime_ <= Micros(n.pose_timeout_s);
+  const LocalObstacles obstacles(map_, scan_fresh ? scan_points_m_ : kNoPoints, pose_->pose,
+                                 options_.local_obstacles);
+
+  if (status_.recovery == RecoveryPhase::kNone) {
+    const double remaining_m = status_.distance_remaining_m;
+    if (remaining_m < best_remaining_m_ - n.progress_margin_m || best_remaining_m_ == kInf) {
+      best_remaining_m_ = remaining_m;
+      last_progress_utime_ = utime;
+    }
+    if (utime - last_progress_utime_ > Micros(n.progress_timeout_s)) {
+      StartRecovery(utime, Format("no progress for %g s", n.progress_timeout_s), obstacles);
+    } else if (const auto turn = Align(utime, obstacles)) {
+      return finish(*turn);
+    } else {
+      last_dwa_ = dwa_.Plan(pose_->pose, last_velocity_, PathAhead(), obstacles);
+      const DwaResult& result = last_dwa_;
+      if (result.found) {
+        dwa_failures_ = 0;
+        return finish({utime, result.command.linear_mps, result.command.angular_radps});
+      }
+      if (++dwa_failures_ < n.dwa_failures_for_recovery) return finish({});
+      StartRecovery(utime, "no collision-free trajectory", obstacles);
+    }
+    if (status_.state != NavState::kActive) return finish({});
+  }
+  return finish(StepRecovery(utime, obstacles));
+}
+
+}  // namespace aslam

@@ -1,1 +1,411 @@
-// placeholder: being written
+#include "navigation/navigator.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace aslam {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr int64_t kCycleUs = 100'000;  // the scan period
+
+// A 10 m x 10 m room with 0.15 m walls, 0.05 m cells; `divider` adds a wall
+// at x = 5 m with gaps at y in [2, 3] (south) and [7, 8] (north).
+OccupancyGrid Room(bool divider = false, bool south_gap = true) {
+  OccupancyGrid grid(200, 200, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  for (int i = 0; i < 200; ++i) {
+    for (int t = 0; t < 3; ++t) {
+      grid.at({i, t}) = grid.at({i, 199 - t}) = grid.at({t, i}) = grid.at({199 - t, i}) = 100;
+    }
+  }
+  if (divider) {
+    for (int row = 0; row < 200; ++row) {
+      const double y = (row + 0.5) * 0.05;
+      const bool in_gap = (south_gap && y > 2.0 && y < 3.0) || (y > 7.0 && y < 8.0);
+      if (in_gap) continue;
+      for (int col = 99; col < 102; ++col) grid.at({col, row}) = 100;
+    }
+  }
+  return grid;
+}
+
+StampedPose PoseAt(int64_t utime, const Pose2d& pose) { return {utime, pose, 0.0, 0.0}; }
+
+// Drives a unicycle exactly along the commanded arc, no dynamics, no collisions.
+Pose2d Integrate(const Pose2d& pose, const VelocityCommand& command, double dt_s) {
+  Pose2d next = pose;
+  constexpr int kSubsteps = 10;
+  for (int i = 0; i < kSubsteps; ++i) {
+    const double h = dt_s / kSubsteps;
+    next.x_m += command.linear_mps * std::cos(next.yaw_rad) * h;
+    next.y_m += command.linear_mps * std::sin(next.yaw_rad) * h;
+    next.yaw_rad = WrapAngle(next.yaw_rad + command.angular_radps * h);
+  }
+  return next;
+}
+
+// Closes the loop over the kinematic robot for up to `seconds`, until the goal settles.
+struct Drive {
+  explicit Drive(Pose2d start) : pose(start) {}
+  Pose2d pose;
+  int64_t utime = 0;
+  std::vector<NavOutput> outputs;
+  double min_wall_clearance_m = 1e9;
+
+  void Run(Navigator& navigator, double seconds) {
+    const int64_t end = utime + static_cast<int64_t>(seconds * 1e6);
+    while (utime < end) {
+      utime += kCycleUs;
+      navigator.SetPose(PoseAt(utime, pose));
+      const NavOutput out = navigator.Step(utime);
+      outputs.push_back(out);
+      if (out.status.state != NavState::kActive) return;
+      pose = Integrate(pose, out.command, kCycleUs * 1e-6);
+      min_wall_clearance_m = std::min({min_wall_clearance_m, pose.x_m - 0.15, 9.85 - pose.x_m,
+                                       pose.y_m - 0.15, 9.85 - pose.y_m});
+    }
+  }
+};
+
+TEST(Navigator, IdleWithoutGoalCommandsZero) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  navigator.SetPose(PoseAt(kCycleUs, {2.0, 5.0, 0.0}));
+  const NavOutput out = navigator.Step(kCycleUs);
+  EXPECT_EQ(out.status.state, NavState::kIdle);
+  EXPECT_EQ(out.status.goal_id, -1);
+  EXPECT_EQ(out.command.linear_mps, 0.0);
+  EXPECT_EQ(out.command.angular_radps, 0.0);
+  EXPECT_EQ(out.command.utime, kCycleUs);
+}
+
+TEST(Navigator, DrivesToTheGoalAndReportsReached) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  Drive drive{{2.0, 5.0, M_PI / 2}};  // facing away from the goal's line
+  navigator.SetGoal(7, {7.5, 3.0}, 0);
+  drive.Run(navigator, 60.0);
+  ASSERT_FALSE(drive.outputs.empty());
+  const NavOutput& last = drive.outputs.back();
+  EXPECT_EQ(last.status.state, NavState::kReached) << last.status.detail;
+  EXPECT_EQ(last.status.goal_id, 7);
+  EXPECT_EQ(last.command.linear_mps, 0.0);
+  EXPECT_EQ(last.command.angular_radps, 0.0);
+  EXPECT_LE(std::hypot(drive.pose.x_m - 7.5, drive.pose.y_m - 3.0), 0.3 + 0.05);
+  EXPECT_EQ(last.status.recoveries_used, 0);
+  EXPECT_GE(last.status.distance_remaining_m, 0.0);
+  EXPECT_GT(drive.min_wall_clearance_m, 0.2);
+  EXPECT_TRUE(drive.outputs.front().replanned);
+  // Straight-line 5.9 m at <= 0.5 m/s: at least 12 s; the first replan was at 1 Hz thereafter.
+  EXPECT_GT(drive.outputs.size(), 110u);
+  EXPECT_GE(navigator.replans(), 10);
+  // Distance remaining falls along the way (it is measured along the path).
+  EXPECT_GT(drive.outputs[5].status.distance_remaining_m,
+            drive.outputs[drive.outputs.size() / 2].status.distance_remaining_m);
+  // Later steps stay reached and stopped.
+  navigator.SetPose(PoseAt(drive.utime + kCycleUs, drive.pose));
+  EXPECT_EQ(navigator.Step(drive.utime + kCycleUs).status.state, NavState::kReached);
+}
+
+TEST(Navigator, FacingAwayFromThePathItTurnsInPlaceFirst) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  Drive drive(Pose2d{2.0, 5.0, M_PI});  // the goal is straight behind
+  navigator.SetGoal(1, {8.0, 5.0}, 0);
+  drive.Run(navigator, 30.0);
+  ASSERT_EQ(drive.outputs.back().status.state, NavState::kReached);
+  std::size_t i = 0;
+  for (; i < drive.outputs.size() && drive.outputs[i].command.linear_mps == 0.0; ++i) {
+    EXPECT_GT(std::abs(drive.outputs[i].command.angular_radps), 0.2) << i;
+  }
+  EXPECT_GT(i, 10u);  // about pi at up to 1.5 rad/s
+  EXPECT_LT(i, 40u);
+  // It drives off only once roughly facing the goal, and never circles: 6 m of path, < 7 m driven.
+  double driven_m = 0.0;
+  Pose2d previous{2.0, 5.0, M_PI};
+  for (const NavOutput& out : drive.outputs) {
+    const Pose2d next = Integrate(previous, out.command, kCycleUs * 1e-6);
+    driven_m += std::hypot(next.x_m - previous.x_m, next.y_m - previous.y_m);
+    previous = next;
+  }
+  EXPECT_LT(driven_m, 7.0);
+}
+
+TEST(Navigator, GoalInAWallIsUnreachable) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  navigator.SetPose(PoseAt(0, {2.0, 5.0, 0.0}));
+  navigator.SetGoal(1, {0.05, 5.0}, 0);  // inside the west wall
+  const NavOutput out = navigator.Step(kCycleUs);
+  EXPECT_EQ(out.status.state, NavState::kUnreachable);
+  EXPECT_THAT(out.status.detail, HasSubstr("obstacle"));
+  EXPECT_EQ(out.command.linear_mps, 0.0);
+  EXPECT_EQ(out.status.distance_remaining_m, -1.0);
+  EXPECT_TRUE(navigator.path_m().empty());
+
+  navigator.SetGoal(2, {20.0, 5.0}, kCycleUs);
+  EXPECT_THAT(navigator.Step(2 * kCycleUs).status.detail, HasSubstr("outside the map"));
+}
+
+TEST(Navigator, GoalWithoutAPathIsUnreachable) {
+  OccupancyGrid map = Room();
+  // A closed box around (7, 7).
+  for (int i = 120; i <= 160; ++i) {
+    for (int t = 0; t < 3; ++t) {
+      map.at({i, 120 + t}) = map.at({i, 160 - t}) = map.at({120 + t, i}) = map.at({160 - t, i}) =
+          100;
+    }
+  }
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(map);
+  navigator.SetPose(PoseAt(0, {2.0, 5.0, 0.0}));
+  navigator.SetGoal(1, {7.0, 7.0}, 0);
+  const NavStatus status = navigator.Step(kCycleUs).status;
+  EXPECT_EQ(status.state, NavState::kUnreachable);
+  EXPECT_THAT(status.detail, HasSubstr("no path"));
+}
+
+TEST(Navigator, GoalBesideAWallIsPlannedToTheNearestFreeCell) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  navigator.SetPose(PoseAt(0, {2.0, 5.0, 0.0}));
+  // 0.22 m from the wall's face: inscribed (0.20 m radius), but within the snap distance.
+  navigator.SetGoal(1, {9.63, 5.0}, 0);
+  const NavStatus status = navigator.Step(kCycleUs).status;
+  EXPECT_EQ(status.state, NavState::kActive) << status.detail;
+  ASSERT_FALSE(navigator.path_m().empty());
+  EXPECT_NEAR(navigator.path_m().back().x_m, 9.63, 0.15);
+}
+
+TEST(Navigator, NoProgressRotatesBacksOffThenFails) {
+  NavOptions options;
+  options.navigator.progress_timeout_s = 2.0;
+  options.navigator.max_recoveries = 1;
+  Navigator navigator{options};
+  navigator.SetMap(Room());
+  const Pose2d stuck{2.0, 5.0, M_PI};  // a base that never moves, facing away from the goal
+  navigator.SetGoal(3, {8.0, 5.0}, 0);
+  std::vector<NavOutput> outputs;
+  for (int64_t utime = kCycleUs; utime < 60'000'000; utime += kCycleUs) {
+    navigator.SetPose(PoseAt(utime, stuck));
+    outputs.push_back(navigator.Step(utime));
+    if (outputs.back().status.state != NavState::kActive) break;
+  }
+  ASSERT_EQ(outputs.back().status.state, NavState::kFailed);
+  EXPECT_THAT(outputs.back().status.detail, HasSubstr("no progress"));
+  EXPECT_THAT(outputs.back().status.detail, HasSubstr("after 1 recoveries"));
+  EXPECT_EQ(outputs.back().command.linear_mps, 0.0);
+  EXPECT_EQ(outputs.back().command.angular_radps, 0.0);
+
+  // The phases in order, each commanding what it should.
+  std::vector<RecoveryPhase> phases;
+  for (const NavOutput& out : outputs) {
+    if (phases.empty() || phases.back() != out.status.recovery)
+      phases.push_back(out.status.recovery);
+    if (out.status.recovery == RecoveryPhase::kRotate) {
+      EXPECT_EQ(out.command.linear_mps, 0.0);
+      EXPECT_GT(std::abs(out.command.angular_radps), 0.1);
+      EXPECT_THAT(out.status.detail, HasSubstr("recovering: no progress"));
+    }
+    if (out.status.recovery == RecoveryPhase::kBackOff) {
+      EXPECT_LT(out.command.linear_mps, 0.0);
+      EXPECT_EQ(out.command.angular_radps, 0.0);
+    }
+  }
+  EXPECT_EQ(phases, (std::vector<RecoveryPhase>{RecoveryPhase::kNone, RecoveryPhase::kRotate,
+                                                RecoveryPhase::kBackOff, RecoveryPhase::kNone}));
+  // Recovery started after the 2 s timeout, not before.
+  std::size_t first_rotate = 0;
+  while (outputs[first_rotate].status.recovery != RecoveryPhase::kRotate) ++first_rotate;
+  EXPECT_NEAR(outputs[first_rotate].status.utime * 1e-6, 2.1, 0.15);
+}
+
+TEST(Navigator, BackOffStopsWhenTheRearIsBlocked) {
+  NavOptions options;
+  options.navigator.progress_timeout_s = 1.0;
+  Navigator navigator{options};
+  navigator.SetMap(Room());
+  // Facing the goal (east) with the west wall right behind: turning is pointless, backing off
+  // unsafe.
+  const Pose2d stuck{0.45, 5.0, 0.0};
+  navigator.SetGoal(1, {5.0, 5.0}, 0);
+  bool saw_back_off_command = false;
+  bool saw_rotate = false;
+  for (int64_t utime = kCycleUs; utime < 12'000'000; utime += kCycleUs) {
+    navigator.SetPose(PoseAt(utime, stuck));
+    const NavOutput out = navigator.Step(utime);
+    saw_rotate |= out.status.recovery == RecoveryPhase::kRotate;
+    saw_back_off_command |= out.command.linear_mps < 0.0;
+  }
+  EXPECT_TRUE(saw_rotate);
+  EXPECT_FALSE(saw_back_off_command);
+}
+
+TEST(Navigator, CancelStopsAndIdles) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  Drive drive{{2.0, 5.0, 0.0}};
+  navigator.SetGoal(5, {8.0, 5.0}, 0);
+  drive.Run(navigator, 2.0);
+  EXPECT_EQ(drive.outputs.back().status.state, NavState::kActive);
+  EXPECT_GT(drive.outputs.back().command.linear_mps, 0.0);
+  EXPECT_FALSE(navigator.path_m().empty());
+
+  EXPECT_FALSE(navigator.Cancel(4, drive.utime));  // not the current goal
+  EXPECT_EQ(navigator.status().state, NavState::kActive);
+  const int64_t revision = navigator.path_revision();
+  EXPECT_TRUE(navigator.Cancel(5, drive.utime));
+  EXPECT_EQ(navigator.status().state, NavState::kIdle);
+  EXPECT_GT(navigator.path_revision(), revision);
+  EXPECT_TRUE(navigator.path_m().empty());
+  const NavOutput out = navigator.Step(drive.utime + kCycleUs);
+  EXPECT_EQ(out.status.state, NavState::kIdle);
+  EXPECT_EQ(out.status.goal_id, 5);
+  EXPECT_EQ(out.command.linear_mps, 0.0);
+  EXPECT_EQ(out.command.angular_radps, 0.0);
+}
+
+TEST(Navigator, ResentGoalIsANoOpAndANewIdStartsOver) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  navigator.SetPose(PoseAt(0, {2.0, 5.0, 0.0}));
+  navigator.SetGoal(1, {2.1, 5.0}, 0);
+  EXPECT_EQ(navigator.Step(kCycleUs).status.state, NavState::kReached);
+  navigator.SetGoal(1, {2.1, 5.0}, kCycleUs);
+  EXPECT_EQ(navigator.Step(2 * kCycleUs).status.state, NavState::kReached);
+  navigator.SetGoal(2, {8.0, 5.0}, 2 * kCycleUs);
+  navigator.SetPose(PoseAt(3 * kCycleUs, {2.0, 5.0, 0.0}));
+  const NavStatus status = navigator.Step(3 * kCycleUs).status;
+  EXPECT_EQ(status.state, NavState::kActive);
+  EXPECT_EQ(status.goal_id, 2);
+  EXPECT_NEAR(status.distance_remaining_m, 6.0, 0.1);
+}
+
+TEST(Navigator, ReplansWhenTheMapBlocksThePath) {
+  NavOptions options;
+  options.navigator.replan_period_s = 1000.0;  // only the map change may trigger it
+  Navigator navigator{options};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/true));
+  const Pose2d robot{2.0, 2.5, 0.0};
+  navigator.SetPose(PoseAt(kCycleUs, robot));
+  navigator.SetGoal(1, {8.0, 2.5}, 0);
+  NavOutput out = navigator.Step(kCycleUs);
+  ASSERT_TRUE(out.replanned);
+  const auto max_y = [&] {
+    double y = 0.0;
+    for (const Point2d& p : navigator.path_m()) y = std::max(y, p.y_m);
+    return y;
+  };
+  EXPECT_LT(max_y(), 4.0);  // through the south gap
+  const double direct_m = out.status.distance_remaining_m;
+
+  navigator.SetPose(PoseAt(2 * kCycleUs, robot));
+  EXPECT_FALSE(navigator.Step(2 * kCycleUs).replanned);
+  navigator.SetMap(Room(true, true));  // unchanged: no replan
+  navigator.SetPose(PoseAt(3 * kCycleUs, robot));
+  EXPECT_FALSE(navigator.Step(3 * kCycleUs).replanned);
+
+  navigator.SetMap(Room(true, /*south_gap=*/false));
+  navigator.SetPose(PoseAt(4 * kCycleUs, robot));
+  out = navigator.Step(4 * kCycleUs);
+  EXPECT_TRUE(out.replanned);
+  EXPECT_EQ(out.status.state, NavState::kActive);
+  EXPECT_GT(max_y(), 6.5);  // through the north gap
+  EXPECT_GT(out.status.distance_remaining_m, direct_m + 5.0);
+}
+
+TEST(Navigator, ReplansAtTheReplanPeriod) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  navigator.SetGoal(1, {8.0, 5.0}, 0);
+  int replans = 0;
+  for (int64_t utime = kCycleUs; utime <= 3'000'000; utime += kCycleUs) {
+    navigator.SetPose(PoseAt(utime, {2.0, 5.0, 0.0}));
+    replans += navigator.Step(utime).replanned ? 1 : 0;
+  }
+  EXPECT_EQ(replans, 3);  // at 0.1 s, 1.1 s and 2.1 s
+}
+
+TEST(Navigator, StalePoseOrMissingInputsStopTheRobot) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetGoal(1, {8.0, 5.0}, 0);
+  NavOutput out = navigator.Step(kCycleUs);
+  EXPECT_EQ(out.status.state, NavState::kActive);
+  EXPECT_THAT(out.status.detail, HasSubstr("waiting for a map"));
+  navigator.SetMap(Room());
+  EXPECT_THAT(navigator.Step(2 * kCycleUs).status.detail, HasSubstr("waiting for a pose"));
+  navigator.SetPose(PoseAt(3 * kCycleUs, {2.0, 5.0, 0.0}));
+  out = navigator.Step(3 * kCycleUs);
+  EXPECT_EQ(out.status.detail, "");
+  EXPECT_GT(std::abs(out.command.linear_mps) + std::abs(out.command.angular_radps), 0.0);
+  out = navigator.Step(3 * kCycleUs + 600'000);  // no pose for 0.6 s
+  EXPECT_THAT(out.status.detail, HasSubstr("pose is stale"));
+  EXPECT_EQ(out.command.linear_mps, 0.0);
+  EXPECT_EQ(out.command.angular_radps, 0.0);
+}
+
+TEST(Navigator, ScanPointsArePlacedInTheMapWithTheLatestPose) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetPose(PoseAt(0, {1.0, 2.0, M_PI / 2}));
+  LidarScan scan;
+  scan.utime = 0;
+  scan.angle_min_rad = 0.0;
+  scan.angle_increment_rad = M_PI / 2;
+  scan.range_min_m = 0.15;
+  scan.range_max_m = 12.0;
+  scan.range_m = {1.0, 0.0, 2.0, std::nanf("")};  // beams 1 and 3 have no return
+  navigator.SetScan(scan);
+  ASSERT_EQ(navigator.scan_points_m().size(), 2u);
+  EXPECT_NEAR(navigator.scan_points_m()[0].x_m, 1.0, 1e-9);  // ahead = +y
+  EXPECT_NEAR(navigator.scan_points_m()[0].y_m, 3.0, 1e-9);
+  EXPECT_NEAR(navigator.scan_points_m()[1].x_m, 1.0, 1e-9);  // behind = -y
+  EXPECT_NEAR(navigator.scan_points_m()[1].y_m, 0.0, 1e-9);
+}
+
+TEST(Navigator, AnUnmappedObstacleInTheScanIsAvoided) {
+  // A scan-only obstacle (a box the map does not have) right on the straight path.
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  Drive drive{{2.0, 5.0, 0.0}};
+  navigator.SetGoal(1, {8.0, 5.0}, 0);
+  std::vector<Point2d> box;
+  for (double y = 4.6; y <= 5.4; y += 0.05) box.push_back({5.0, y});
+  double min_box_distance_m = 1e9;
+  const int64_t end = 60'000'000;
+  while (drive.utime < end) {
+    drive.utime += kCycleUs;
+    navigator.SetPose(PoseAt(drive.utime, drive.pose));
+    // A fine sweep whose only returns are the box points.
+    LidarScan scan;
+    scan.utime = drive.utime;
+    scan.range_min_m = 0.01;
+    scan.range_max_m = 100.0;
+    scan.angle_min_rad = -M_PI;
+    scan.angle_increment_rad = 2 * M_PI / 3600;
+    scan.range_m.assign(3600, 0.0f);
+    for (const Point2d& p : box) {
+      const double dx = p.x_m - drive.pose.x_m, dy = p.y_m - drive.pose.y_m;
+      const double bearing = WrapAngle(std::atan2(dy, dx) - drive.pose.yaw_rad);
+      const int beam =
+          static_cast<int>(std::lround((bearing + M_PI) / scan.angle_increment_rad)) % 3600;
+      scan.range_m[beam] = static_cast<float>(std::hypot(dx, dy));
+    }
+    navigator.SetScan(scan);
+    const NavOutput out = navigator.Step(drive.utime);
+    if (out.status.state != NavState::kActive) break;
+    drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
+    for (const Point2d& p : box) {
+      min_box_distance_m =
+          std::min(min_box_distance_m, std::hypot(p.x_m - drive.pose.x_m, p.y_m - drive.pose.y_m));
+    }
+  }
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+  EXPECT_GT(min_box_distance_m, 0.2);
+}
+
+}  // namespace
+}  // namespace aslam

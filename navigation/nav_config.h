@@ -1,0 +1,76 @@
+#pragma once
+
+// The navigator's options (one struct for the whole aslam-nav component) and
+// the loader of the `nav:` config section, validated once at load time.
+
+#include <string>
+
+#include "common/config.h"
+#include "navigation/costmap.h"
+#include "navigation/dwa_planner.h"
+#include "navigation/global_planner.h"
+#include "navigation/local_obstacles.h"
+
+namespace aslam {
+
+struct RecoveryOptions {
+  double rotate_speed_radps = 1.0;
+  double rotate_aligned_rad = 0.1;  // the turn ends this close to its target heading
+  double back_off_distance_m = 0.3;
+  double back_off_speed_mps = 0.1;
+  double rear_clearance_margin_m = 0.03;  // rear free beyond the robot radius to keep reversing
+};
+
+struct NavigatorOptions {
+  double goal_tolerance_m = 0.3;
+  // A goal in the inflated zone (not in an obstacle) is planned to the
+  // nearest traversable cell within this distance.
+  double goal_snap_m = 0.15;
+  double replan_period_s = 1.0;
+  double path_lookahead_m = 2.5;  // how much of the global path the DWA follows
+  // Scan end points this close to the robot are marked as obstacles in the
+  // costmap the global planner uses, so replanning routes around what the map
+  // has not caught up with (0 = plan on the map alone).
+  double scan_mark_range_m = 3.0;
+  // Heading error to the path beyond align_start_rad: stop and turn in place
+  // until within align_done_rad before the DWA drives again (the DWA alone
+  // turns around in wide circles when speed scores well).
+  double align_start_rad = 1.2;
+  double align_done_rad = 0.3;
+  double align_speed_radps = 1.5;
+  double pose_timeout_s = 0.5;        // an older pose (or scan) stops the robot
+  double progress_timeout_s = 10.0;   // no progress this long starts a recovery
+  double progress_margin_m = 0.25;    // progress = distance remaining reduced by this much
+  int dwa_failures_for_recovery = 3;  // consecutive cycles without an admissible trajectory
+  int max_recoveries = 3;             // per goal; one more need for recovery fails the goal
+  RecoveryOptions recovery;
+};
+
+// The DWA weights the navigator ships with, tuned in closed loop with
+// aslam-nav-bench (worlds/test, worlds/office). With DwaOptions' own weights
+// (1.0, 0.8, 0.4, 0.3) the min-max normalised clearance term outweighs speed
+// near doorways: from a standstill, staying put scores best and the robot
+// stalls (aslam-nav-bench, worlds/test, 50 runs: 70 % reached vs 100 % with these).
+inline DwaOptions NavDefaultDwaOptions() {
+  DwaOptions dwa;
+  dwa.weight_path_alignment = 0.5;
+  dwa.weight_goal_heading = 0.5;
+  dwa.weight_clearance = 0.2;
+  dwa.weight_speed = 1.0;
+  return dwa;
+}
+
+struct NavOptions {
+  CostmapOptions costmap;
+  GlobalPlannerOptions global_planner;
+  LocalObstaclesOptions local_obstacles;
+  DwaOptions dwa = NavDefaultDwaOptions();
+  NavigatorOptions navigator;
+};
+
+// Reads and validates the `nav` section; throws ConfigError naming file, key and value.
+NavOptions LoadNavOptions(const ConfigReader& nav_section);
+// Convenience: the `nav` section of `file`; "" gives the defaults.
+NavOptions LoadNavOptionsFromFile(const std::string& file);
+
+}  // namespace aslam

@@ -1,0 +1,166 @@
+#pragma once
+
+// The navigator: goal handling, global replanning, DWA path following and
+// recovery, as one state machine over the latest map, pose and scan. No LCM
+// and no wall clock: time comes from the utimes of the inputs and of Step().
+//
+//   SetGoal -> active --(within goal_tolerance_m)--> reached
+//                |  (facing far off the path: stop and turn toward it first)
+//                |  \--(goal in an obstacle / no path)--> unreachable
+//                |--(no progress for progress_timeout_s, or the DWA finds
+//                |   no admissible trajectory several cycles running)-->
+//                |   recovery: rotate (to the heading that backing off
+//                |   gains most clearance from, preferring the path's
+//                |   direction), back off (reverse slowly while the rear is
+//                |   clear), replan, resume; once max_recoveries are spent --> failed
+//   Cancel -> idle
+//
+// Global plans (Dijkstra) are redone every replan_period_s and at once when a
+// new map makes a cell of the path untraversable; the planning costmap is the
+// map plus the scan returns near the robot that the map does not explain.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/occupancy_grid.h"
+#include "common/pose2d.h"
+#include "common/sensor_types.h"
+#include "navigation/costmap.h"
+#include "navigation/dwa_planner.h"
+#include "navigation/global_planner.h"
+#include "navigation/local_obstacles.h"
+#include "navigation/nav_config.h"
+
+namespace aslam {
+
+enum class NavState { kIdle, kActive, kReached, kFailed, kUnreachable };
+enum class RecoveryPhase { kNone, kRotate, kBackOff };
+
+const char* NavStateName(NavState state);
+const char* RecoveryPhaseName(RecoveryPhase phase);
+
+struct NavStatus {
+  int64_t utime = 0;
+  int64_t goal_id = -1;  // -1 before the first goal
+  NavState state = NavState::kIdle;
+  RecoveryPhase recovery = RecoveryPhase::kNone;
+  Point2d goal_m;                      // "map"
+  double distance_remaining_m = -1.0;  // along the global path; -1 without one
+  int recoveries_used = 0;             // for the current goal
+  std::string detail;                  // why: failed, unreachable, waiting, stale pose
+};
+
+// An EXPLORE_GOAL: go to goal_m, or stop pursuing goal_id.
+struct NavGoalRequest {
+  int64_t utime = 0;
+  int64_t goal_id = 0;
+  bool cancel = false;
+  Point2d goal_m;  // "map"
+};
+
+// What one control cycle produced.
+struct NavOutput {
+  VelocityCommand command;  // utime = the Step's utime
+  NavStatus status;
+  bool replanned = false;  // a global plan was attempted this cycle
+};
+
+class Navigator {
+ public:
+  explicit Navigator(NavOptions options);
+
+  // Rebuilds the planning costmap; a path cell that became untraversable forces a
+  // replan on the next Step.
+  void SetMap(const OccupancyGrid& map);
+  // The robot in "map".
+  void SetPose(const StampedPose& pose);
+  // Keeps the scan's valid end points in "map", placed with the latest pose;
+  // the next replan marks the near ones into its costmap.
+  void SetScan(const LidarScan& scan);
+  // A new goal id starts a new goal; the current id with another point moves
+  // the goal (replan, recovery budget kept); the same id and point is a no-op.
+  void SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime);
+  // Stops and idles if `goal_id` is the current goal; returns whether it was.
+  bool Cancel(int64_t goal_id, int64_t utime);
+
+  // One control cycle at `utime` (the scan rate): replans when due, checks
+  // goal and progress, runs the DWA or the recovery, returns the command.
+  NavOutput Step(int64_t utime);
+
+  const NavStatus& status() const { return status_; }
+  // The current global path ("map"); empty when there is none.
+  const std::vector<Point2d>& path_m() const { return path_m_; }
+  double path_length_m() const { return path_length_m_; }
+  // Increases whenever path_m() is replaced (every replan) or cleared.
+  int64_t path_revision() const { return path_revision_; }
+  bool has_map() const { return has_map_; }
+  const Costmap& costmap() const { return costmap_; }
+  const std::vector<Point2d>& scan_points_m() const { return scan_points_m_; }
+  const NavOptions& options() const { return options_; }
+  int64_t replans() const { return replans_; }
+  // The latest DWA result (for viewers, tests and tracing).
+  const DwaResult& last_dwa() const { return last_dwa_; }
+
+ private:
+  void Stop(NavState state, const std::string& detail);
+  bool Replan(int64_t utime);  // false: goal unreachable (state set)
+  bool PathBlocked() const;
+  void AdvancePathIndex();
+  double DistanceRemainingM() const;
+  std::vector<Point2d> PathAhead() const;  // the DWA's view of the path
+  double PathHeadingRad() const;           // direction of the path ahead from the robot
+  void ClearPath();
+  // Marks the scan points within scan_mark_range_m that the map does not
+  // explain into the planning costmap (rebuilt only when the marks change).
+  void UpdateScanMarks();
+  void StartRecovery(int64_t utime, const std::string& reason, const LocalObstacles& obstacles);
+  VelocityCommand StepRecovery(int64_t utime, const LocalObstacles& obstacles);
+  double ChooseBackOffHeading(const LocalObstacles& obstacles) const;
+  bool RearClear(const LocalObstacles& obstacles) const;
+  void ResetProgress(int64_t utime);
+  // The turn-in-place command while the heading is far off the path's; nullopt: let the DWA drive.
+  std::optional<VelocityCommand> Align(int64_t utime, const LocalObstacles& obstacles);
+
+  NavOptions options_;
+  GlobalPlanner planner_;
+  DwaPlanner dwa_;
+
+  OccupancyGrid map_;
+  Costmap costmap_;
+  std::vector<std::size_t> marked_cells_;  // map cells marked from the scan, sorted
+  bool costmap_current_ = false;           // costmap_ = map_ + marked_cells_
+  bool has_map_ = false;
+  std::optional<StampedPose> pose_;
+  std::vector<Point2d> scan_points_m_;
+  int64_t scan_utime_ = -1;
+
+  NavStatus status_;
+  Point2d plan_target_m_;  // the goal, or the traversable cell it was snapped to
+  bool has_path_ = false;
+  std::vector<Point2d> path_m_;
+  std::vector<double> path_suffix_m_;  // length from point i to the end
+  double path_length_m_ = 0.0;
+  std::size_t path_index_ = 0;  // nearest path point to the robot
+  bool replan_due_ = false;
+  int64_t last_plan_utime_ = 0;
+  int64_t replans_ = 0;
+  int64_t path_revision_ = 0;
+
+  // Progress: the best distance remaining and when it last improved by the margin.
+  double best_remaining_m_ = 0.0;
+  int64_t last_progress_utime_ = 0;
+  int dwa_failures_ = 0;
+  bool aligning_ = false;  // turning in place toward the path before the DWA drives
+  DwaVelocity last_velocity_;
+  DwaResult last_dwa_;
+
+  // The running recovery.
+  std::string recovery_reason_;
+  int64_t phase_start_utime_ = 0;
+  double rotate_target_yaw_rad_ = 0.0;
+  Point2d back_off_start_m_;
+};
+
+}  // namespace aslam
