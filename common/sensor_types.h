@@ -3,6 +3,7 @@
 // Sensor and command value types shared by the algorithm libraries. The LCM
 // translators (`*_lcm.h`) map these to and from the lcmtypes.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -26,7 +27,8 @@ struct LidarScan {
   double BeamAngle(std::size_t i) const { return angle_min_rad + i * angle_increment_rad; }
   bool IsValidReturn(std::size_t i) const {
     const float r = range_m[i];
-    return r >= range_min_m && r <= range_max_m;  // false for 0, NaN and out-of-range values
+    // 0 is "no return" even when range_min_m is 0; NaN and inf never count.
+    return r > 0.0f && std::isfinite(r) && r >= range_min_m && r <= range_max_m;
   }
 };
 

@@ -38,6 +38,9 @@ OccupancyMapper::OccupancyMapper(OccupancyMapperOptions options) : options_(std:
           "no_return_clear_m", o.no_return_clear_m);
   Require(o.growth_margin_m >= 0.0 && o.growth_margin_m <= kMaxBeamLengthM, "growth_margin_m",
           o.growth_margin_m);
+  Require(o.free_threshold > 0.0 && o.free_threshold < 0.5, "free_threshold", o.free_threshold);
+  Require(o.occupied_threshold > 0.5 && o.occupied_threshold < 1.0, "occupied_threshold",
+          o.occupied_threshold);
 }
 
 void OccupancyMapper::Clear() {
@@ -194,7 +197,9 @@ OccupancyGrid OccupancyMapper::Render() const {
     const float value = cells_[i].log_odds;
     if (std::isnan(value)) continue;  // stays kUnknown
     const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(value)));
-    cells[i] = static_cast<int8_t>(std::lround(100.0 * p));
+    cells[i] = p <= options_.free_threshold       ? OccupancyGrid::kFree
+               : p >= options_.occupied_threshold ? OccupancyGrid::kOccupied
+                                                  : static_cast<int8_t>(std::lround(100.0 * p));
   }
   return grid;
 }

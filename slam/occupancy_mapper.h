@@ -22,6 +22,10 @@ struct OccupancyMapperOptions {
   // A beam with no return clears this far (0: no-return beams are ignored).
   double no_return_clear_m = 0.0;
   double growth_margin_m = 2.0;   // extra border added whenever the grid grows
+  // Rendering: p <= free_threshold reads 0 (free), p >= occupied_threshold 100
+  // (occupied), anything between round(100 p), so consumers see clean free space.
+  double free_threshold = 0.25;
+  double occupied_threshold = 0.65;
 };
 
 class OccupancyMapper {

@@ -9,9 +9,13 @@
 namespace aslam {
 namespace {
 
-// Percent as Render() should give it for a log-odds value.
+// The cell value Render() should give for a log-odds value under the default thresholds.
 int8_t Percent(double log_odds) {
-  return static_cast<int8_t>(std::lround(100.0 / (1.0 + std::exp(-log_odds))));
+  const double p = 1.0 / (1.0 + std::exp(-log_odds));
+  const OccupancyMapperOptions defaults;
+  if (p <= defaults.free_threshold) return OccupancyGrid::kFree;
+  if (p >= defaults.occupied_threshold) return OccupancyGrid::kOccupied;
+  return static_cast<int8_t>(std::lround(100.0 * p));
 }
 
 // A scan whose beams all point along the sensor's x axis.

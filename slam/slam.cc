@@ -1,1 +1,406 @@
-// placeholder: being written
+#include "slam/slam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Dense>
+
+namespace aslam {
+namespace {
+
+bool IsFinite(const Pose2d& pose) {
+  return std::isfinite(pose.x_m) && std::isfinite(pose.y_m) && std::isfinite(pose.yaw_rad);
+}
+
+double Norm(const Pose2d& pose) { return std::hypot(pose.x_m, pose.y_m); }
+
+// Linear interpolation between two odometry poses (yaw along the short way).
+Pose2d Interpolate(const Pose2d& a, const Pose2d& b, double fraction) {
+  return Pose2d{a.x_m + fraction * (b.x_m - a.x_m), a.y_m + fraction * (b.y_m - a.y_m),
+                WrapAngle(a.yaw_rad + fraction * WrapAngle(b.yaw_rad - a.yaw_rad))};
+}
+
+void Require(bool condition, const std::string& field, double value, const char* rule) {
+  if (!condition) {
+    throw std::invalid_argument(field + " = " + std::to_string(value) + ": " + rule);
+  }
+}
+
+}  // namespace
+
+const char* DropReasonName(DropReason reason) {
+  switch (reason) {
+    case DropReason::kOdometryTimeBackwards: return "odometry_time_backwards";
+    case DropReason::kOdometryJump: return "odometry_jump";
+    case DropReason::kOdometryNotFinite: return "odometry_not_finite";
+    case DropReason::kScanTimeBackwards: return "scan_time_backwards";
+    case DropReason::kScanBeforeOdometry: return "scan_before_odometry";
+    case DropReason::kScanTooFewPoints: return "scan_too_few_points";
+    case DropReason::kScanMalformed: return "scan_malformed";
+    case DropReason::kCount: break;
+  }
+  return "unknown";
+}
+
+int64_t SlamCounters::dropped_total() const {
+  int64_t total = 0;
+  for (const int64_t n : dropped) total += n;
+  return total;
+}
+
+void ValidateSlamOptions(const SlamOptions& o) {
+  Require(o.keyframe.travel_m > 0, "keyframe.travel_m", o.keyframe.travel_m, "must be > 0");
+  Require(o.keyframe.rotation_rad > 0, "keyframe.rotation_rad", o.keyframe.rotation_rad,
+          "must be > 0");
+  const FrontEndOptions& f = o.front_end;
+  Require(f.point_spacing_m >= 0, "front_end.point_spacing_m", f.point_spacing_m, "must be >= 0");
+  Require(f.local_map_keyframes >= 1, "front_end.local_map_keyframes", f.local_map_keyframes,
+          "must be >= 1");
+  Require(f.window.linear_m > 0, "front_end.window.linear_m", f.window.linear_m, "must be > 0");
+  Require(f.window.angular_rad > 0, "front_end.window.angular_rad", f.window.angular_rad,
+          "must be > 0");
+  Require(f.min_response >= 0 && f.min_response <= 1, "front_end.min_response", f.min_response,
+          "must be in [0, 1]");
+  Require(f.odometry_sigma_m > 0, "front_end.odometry_sigma_m", f.odometry_sigma_m, "must be > 0");
+  Require(f.odometry_sigma_rad > 0, "front_end.odometry_sigma_rad", f.odometry_sigma_rad,
+          "must be > 0");
+  const LoopClosureOptions& l = o.loop_closure;
+  Require(l.search_radius_m > 0, "loop_closure.search_radius_m", l.search_radius_m, "must be > 0");
+  Require(l.recent_chain_keyframes >= 1, "loop_closure.recent_chain_keyframes",
+          l.recent_chain_keyframes, "must be >= 1");
+  Require(l.neighbour_keyframes >= 0, "loop_closure.neighbour_keyframes", l.neighbour_keyframes,
+          "must be >= 0");
+  Require(l.window.linear_m > 0, "loop_closure.window.linear_m", l.window.linear_m, "must be > 0");
+  Require(l.window.angular_rad > 0, "loop_closure.window.angular_rad", l.window.angular_rad,
+          "must be > 0");
+  Require(l.min_response >= 0 && l.min_response <= 1, "loop_closure.min_response", l.min_response,
+          "must be in [0, 1]");
+  Require(l.keyframes_between_attempts >= 1, "loop_closure.keyframes_between_attempts",
+          l.keyframes_between_attempts, "must be >= 1");
+  Require(l.max_chi_square > 0, "loop_closure.max_chi_square", l.max_chi_square, "must be > 0");
+  const InputOptions& in = o.input;
+  Require(in.min_valid_points >= 3, "input.min_valid_points", in.min_valid_points, "must be >= 3");
+  Require(in.max_linear_speed_mps > 0, "input.max_linear_speed_mps", in.max_linear_speed_mps,
+          "must be > 0");
+  Require(in.max_angular_speed_radps > 0, "input.max_angular_speed_radps",
+          in.max_angular_speed_radps, "must be > 0");
+  Require(in.odometry_buffer_s > 0, "input.odometry_buffer_s", in.odometry_buffer_s, "must be > 0");
+  const PoseGraphOptimizerOptions& opt = o.optimizer;
+  Require(opt.max_iterations >= 1, "optimizer.max_iterations", opt.max_iterations, "must be >= 1");
+  Require(opt.function_tolerance > 0, "optimizer.function_tolerance", opt.function_tolerance,
+          "must be > 0");
+  Require(opt.num_threads >= 1, "optimizer.num_threads", opt.num_threads, "must be >= 1");
+  ValidateScanMatcherOptions(o.scan_matcher);
+  OccupancyMapper check_mapper(o.mapper);  // throws std::invalid_argument naming the field
+}
+
+namespace {
+const SlamOptions& CheckedOrAbort(const SlamOptions& options) {
+  try {
+    ValidateSlamOptions(options);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "Slam: invalid options (validate at load time): %s\n", e.what());
+    std::abort();
+  }
+  return options;
+}
+}  // namespace
+
+Slam::Slam(SlamOptions options)
+    : options_(CheckedOrAbort(options)),
+      matcher_(options_.scan_matcher),
+      optimizer_(options_.optimizer),
+      mapper_(options_.mapper) {}
+
+bool Slam::AddOdometry(const Odometry& raw) {
+  if (!IsFinite(raw.pose)) {
+    Drop(DropReason::kOdometryNotFinite);
+    return false;
+  }
+  if (last_raw_odometry_ && raw.utime <= last_raw_odometry_->utime) {
+    Drop(DropReason::kOdometryTimeBackwards);
+    return false;
+  }
+  const InputOptions& in = options_.input;
+  // Plausible when no faster than the physical bound (plus a small slack for noise).
+  auto plausible = [&](const Odometry& from, const Odometry& to) {
+    const double dt_s = (to.utime - from.utime) * 1e-6;
+    const Pose2d delta = from.pose.Between(to.pose);
+    return Norm(delta) <= in.max_linear_speed_mps * dt_s + 0.05 &&
+           std::abs(delta.yaw_rad) <= in.max_angular_speed_radps * dt_s + 0.05;
+  };
+  if (last_raw_odometry_ && !plausible(*last_raw_odometry_, raw)) {
+    if (jump_candidate_ && raw.utime > jump_candidate_->utime && plausible(*jump_candidate_, raw)) {
+      // The stream continues from the jumped value: the odometry was reset. Rebase
+      // so that no motion is seen across the jump.
+      odometry_correction_ =
+          odometry_correction_.Compose(last_raw_odometry_->pose).Compose(jump_candidate_->pose.Inverse());
+      ++counters_.odometry_rebases;
+    } else {
+      jump_candidate_ = raw;
+      Drop(DropReason::kOdometryJump);
+      return false;
+    }
+  }
+  jump_candidate_.reset();
+  last_raw_odometry_ = raw;
+  Odometry corrected = raw;
+  corrected.pose = odometry_correction_.Compose(raw.pose);
+  odometry_.push_back(corrected);
+  const int64_t keep_us = static_cast<int64_t>(in.odometry_buffer_s * 1e6);
+  while (odometry_.size() > 2 && odometry_.front().utime < raw.utime - keep_us) {
+    odometry_.pop_front();
+  }
+  ++counters_.odometry_received;
+  return true;
+}
+
+std::optional<Pose2d> Slam::OdometryAt(int64_t utime) const {
+  if (odometry_.empty()) return std::nullopt;
+  // The newest sample at or before `utime`, interpolated toward the next one.
+  auto after = std::upper_bound(odometry_.begin(), odometry_.end(), utime,
+                                [](int64_t t, const Odometry& o) { return t < o.utime; });
+  if (after == odometry_.begin()) {
+    // Older than every sample: usable only if very close to the oldest.
+    if (odometry_.front().utime - utime > 200000) return std::nullopt;
+    return odometry_.front().pose;
+  }
+  const Odometry& before = *std::prev(after);
+  if (after == odometry_.end() || before.utime == utime) return before.pose;
+  const double fraction =
+      static_cast<double>(utime - before.utime) / static_cast<double>(after->utime - before.utime);
+  return Interpolate(before.pose, after->pose, fraction);
+}
+
+ScanUpdate Slam::AddScan(const LidarScan& scan) {
+  ScanUpdate update;
+  ++counters_.scans_received;
+  if (scan.range_m.empty() || !std::isfinite(scan.angle_min_rad) ||
+      !std::isfinite(scan.angle_increment_rad) || scan.angle_increment_rad == 0.0 ||
+      !std::isfinite(scan.range_max_m) || !(scan.range_max_m > scan.range_min_m) ||
+      !IsFinite(scan.sensor_pose)) {
+    Drop(DropReason::kScanMalformed);
+    return update;
+  }
+  if (scan.utime <= last_scan_utime_) {
+    Drop(DropReason::kScanTimeBackwards);
+    return update;
+  }
+  const std::optional<Pose2d> odom_pose = OdometryAt(scan.utime);
+  if (!odom_pose) {
+    Drop(DropReason::kScanBeforeOdometry);
+    return update;
+  }
+  int valid_returns = 0;
+  int64_t invalid_beams = 0;
+  for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
+    const float r = scan.range_m[i];
+    if (!std::isfinite(r) || r < 0.0f) ++invalid_beams;
+    if (scan.IsValidReturn(i)) ++valid_returns;
+  }
+  counters_.invalid_beams += invalid_beams;
+  if (valid_returns < options_.input.min_valid_points) {
+    Drop(DropReason::kScanTooFewPoints);
+    return update;
+  }
+  last_scan_utime_ = scan.utime;
+  ++counters_.scans_processed;
+  update.accepted = true;
+
+  const bool first = keyframes_.empty();
+  if (!first) {
+    const Pose2d since_keyframe = keyframes_.back().odom_pose.Between(*odom_pose);
+    if (Norm(since_keyframe) < options_.keyframe.travel_m &&
+        std::abs(since_keyframe.yaw_rad) < options_.keyframe.rotation_rad) {
+      update.pose.pose = graph_.nodes.back().pose.Compose(since_keyframe);
+    } else {
+      AddKeyframe(scan, *odom_pose,
+                  std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
+                  &update);
+    }
+  } else {
+    AddKeyframe(scan, *odom_pose,
+                std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
+                &update);
+  }
+  if (update.keyframe_added) update.pose.pose = graph_.nodes.back().pose;
+  update.pose.utime = scan.utime;
+  if (last_raw_odometry_) {
+    update.pose.linear_velocity_mps = last_raw_odometry_->linear_velocity_mps;
+    update.pose.angular_velocity_radps = last_raw_odometry_->angular_velocity_radps;
+  }
+  latest_pose_ = update.pose;
+  return update;
+}
+
+Eigen::Matrix3d Slam::EdgeInformation(const Pose2d& from_pose,
+                                      const Eigen::Matrix3d& covariance_map) const {
+  // The measurement's translation is expressed in the `from` frame: rotate the
+  // map-axes covariance by R(from.yaw)ᵀ (yaw unaffected).
+  const double c = std::cos(from_pose.yaw_rad), s = std::sin(from_pose.yaw_rad);
+  Eigen::Matrix3d rotation_t;
+  rotation_t << c, s, 0, -s, c, 0, 0, 0, 1;
+  Eigen::Matrix3d covariance = rotation_t * covariance_map * rotation_t.transpose();
+  covariance = 0.5 * (covariance + covariance.transpose());
+  Eigen::Matrix3d information = covariance.inverse();
+  return 0.5 * (information + information.transpose());
+}
+
+void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
+                       std::shared_ptr<const PointCloud2d> points, ScanUpdate* update) {
+  const int id = static_cast<int>(keyframes_.size());
+  Pose2d pose;  // the first keyframe anchors "map"
+  if (id > 0) {
+    const Pose2d& previous_pose = graph_.nodes.back().pose;
+    const Pose2d prediction = previous_pose.Compose(keyframes_.back().odom_pose.Between(odom_pose));
+    std::vector<PosedPoints> local;
+    const int first_local = std::max(0, id - options_.front_end.local_map_keyframes);
+    for (int i = first_local; i < id; ++i) {
+      local.push_back(PosedPoints{graph_.nodes[i].pose, keyframes_[i].points});
+    }
+    const CorrelationMap local_map(local, options_.scan_matcher);
+    const ScanMatchResult match =
+        matcher_.Match(local_map, *points, prediction, options_.front_end.window);
+    PoseGraphEdge edge;
+    edge.from_id = id - 1;
+    edge.to_id = id;
+    edge.kind = EdgeKind::kOdometry;
+    if (match.found && match.response >= options_.front_end.min_response) {
+      pose = match.refined_pose;
+      edge.information = EdgeInformation(previous_pose, match.covariance);
+      latest_covariance_ = match.covariance;
+    } else {
+      ++counters_.matches_low_response;
+      pose = prediction;
+      const double var_m = options_.front_end.odometry_sigma_m * options_.front_end.odometry_sigma_m;
+      const double var_rad =
+          options_.front_end.odometry_sigma_rad * options_.front_end.odometry_sigma_rad;
+      edge.information = Eigen::Vector3d(1.0 / var_m, 1.0 / var_m, 1.0 / var_rad).asDiagonal();
+      latest_covariance_ = Eigen::Vector3d(var_m, var_m, var_rad).asDiagonal();
+    }
+    pose.yaw_rad = WrapAngle(pose.yaw_rad);
+    edge.measurement = previous_pose.Between(pose);
+    graph_.edges.push_back(edge);
+  }
+  graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
+  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan});
+  mapper_.InsertScan(pose, scan);
+  ++map_revision_;
+  ++graph_revision_;
+  update->keyframe_added = true;
+  update->graph_changed = true;
+
+  TryLoopClosure(id, update);
+}
+
+void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
+  const LoopClosureOptions& lc = options_.loop_closure;
+  if (!lc.enabled || node_id - last_closure_attempt_node_ < lc.keyframes_between_attempts) return;
+  const int newest_candidate = node_id - lc.recent_chain_keyframes - 1;
+  if (newest_candidate < 0) return;
+  const Pose2d& pose = graph_.nodes[node_id].pose;
+  int candidate = -1;
+  double best_distance_m = lc.search_radius_m;
+  for (int j = 0; j <= newest_candidate; ++j) {
+    const double d = std::hypot(graph_.nodes[j].pose.x_m - pose.x_m, graph_.nodes[j].pose.y_m - pose.y_m);
+    if (d < best_distance_m) {
+      best_distance_m = d;
+      candidate = j;
+    }
+  }
+  if (candidate < 0) return;
+  last_closure_attempt_node_ = node_id;
+
+  std::vector<PosedPoints> local;
+  const int last = std::min(newest_candidate, candidate + lc.neighbour_keyframes);
+  for (int i = std::max(0, candidate - lc.neighbour_keyframes); i <= last; ++i) {
+    local.push_back(PosedPoints{graph_.nodes[i].pose, keyframes_[i].points});
+  }
+  const CorrelationMap candidate_map(local, options_.scan_matcher);
+  const ScanMatchResult match =
+      matcher_.Match(candidate_map, *keyframes_[node_id].points, pose, lc.window);
+  if (!match.found || match.response < lc.min_response) {
+    ++counters_.loop_closures_rejected;
+    ++update->loop_closures_rejected;
+    return;
+  }
+  const Pose2d& candidate_pose = graph_.nodes[candidate].pose;
+  PoseGraphEdge edge;
+  edge.from_id = candidate;
+  edge.to_id = node_id;
+  edge.kind = EdgeKind::kLoopClosure;
+  edge.measurement = candidate_pose.Between(match.refined_pose);
+  edge.information = EdgeInformation(candidate_pose, match.covariance);
+  graph_.edges.push_back(edge);
+  if (OptimizeAndCheck(graph_.edges.size() - 1, update)) {
+    ++counters_.loop_closures_accepted;
+    ++update->loop_closures_accepted;
+  } else {
+    ++counters_.loop_closures_rejected;
+    ++update->loop_closures_rejected;
+  }
+  RerenderMap();
+  update->map_rerendered = true;
+}
+
+bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
+  std::vector<Pose2d> before;
+  before.reserve(graph_.nodes.size());
+  for (const PoseGraphNode& node : graph_.nodes) before.push_back(node.pose);
+  auto restore = [&] {
+    for (std::size_t i = 0; i < before.size(); ++i) graph_.nodes[i].pose = before[i];
+  };
+  bool new_edge_alive = true;
+  // Each pass removes the worst closure that tears the graph and re-optimizes without it.
+  for (int removals = 0;; ++removals) {
+    const OptimizationSummary summary = optimizer_.Optimize(&graph_);
+    ++counters_.optimizations;
+    update->graph_optimized = true;
+    if (!summary.usable) {
+      restore();
+      if (new_edge_alive) graph_.edges.erase(graph_.edges.begin() + new_edge);
+      new_edge_alive = false;
+      break;
+    }
+    std::size_t worst = graph_.edges.size();
+    double worst_chi_square = options_.loop_closure.max_chi_square;
+    for (std::size_t e = 0; e < graph_.edges.size(); ++e) {
+      if (graph_.edges[e].kind != EdgeKind::kLoopClosure) continue;
+      const double chi_square = EdgeChiSquare(graph_, graph_.edges[e]);
+      if (chi_square > worst_chi_square) {
+        worst_chi_square = chi_square;
+        worst = e;
+      }
+    }
+    if (worst == graph_.edges.size() || removals == 3) break;
+    graph_.edges.erase(graph_.edges.begin() + worst);
+    ++counters_.loop_closures_removed;
+    if (new_edge_alive && worst == new_edge) {
+      new_edge_alive = false;
+    } else {
+      // An earlier closure no longer fits: it leaves the graph and the accepted count.
+      if (new_edge_alive && worst < new_edge) --new_edge;
+      --counters_.loop_closures_accepted;
+      ++counters_.loop_closures_rejected;
+    }
+    restore();
+  }
+  ++graph_revision_;
+  update->graph_changed = true;
+  return new_edge_alive;
+}
+
+void Slam::RerenderMap() {
+  mapper_.Clear();
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    mapper_.InsertScan(graph_.nodes[i].pose, keyframes_[i].scan);
+  }
+  ++map_revision_;
+}
+
+}  // namespace aslam

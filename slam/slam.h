@@ -1,0 +1,139 @@
+#pragma once
+
+// The SLAM front end: keyframes from odometry travel, each placed by
+// correlative scan matching against the recent keyframes, loop closures
+// against older nearby keyframes, the pose graph optimized after every
+// accepted closure (and cleaned of closures that tear it), and the occupancy
+// grid rendered from the keyframe poses. Pure C++: the node feeds it decoded
+// messages; time comes only from their utimes.
+//
+// Frames: "odom" is the wheel odometry's; "map" is anchored at the first
+// keyframe (its pose is the identity).
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/occupancy_grid.h"
+#include "common/pose_graph.h"
+#include "common/sensor_types.h"
+#include "slam/occupancy_mapper.h"
+#include "slam/pose_graph_optimizer.h"
+#include "slam/scan_matcher.h"
+#include "slam/slam_options.h"
+
+namespace aslam {
+
+// Why an input was dropped (the counters are indexed by this).
+enum class DropReason : int {
+  kOdometryTimeBackwards = 0,  // utime not after the previous odometry
+  kOdometryJump,               // faster than the physical bound since the previous message
+  kOdometryNotFinite,
+  kScanTimeBackwards,          // utime not after the previous scan
+  kScanBeforeOdometry,         // no odometry yet to place it
+  kScanTooFewPoints,           // fewer than min_valid_points valid returns
+  kScanMalformed,              // bad geometry (non-finite angles, non-positive increment...)
+  kCount
+};
+const char* DropReasonName(DropReason reason);
+
+struct SlamCounters {
+  int64_t odometry_received = 0;
+  int64_t scans_received = 0;
+  int64_t scans_processed = 0;
+  // Beams with NaN, inf or negative ranges: ignored (like no return), the scan kept.
+  int64_t invalid_beams = 0;
+  int64_t odometry_rebases = 0;  // a jump followed by a consistent stream: odometry was reset
+  int64_t matches_low_response = 0;  // sequential edges that fell back to odometry
+  int64_t loop_closures_accepted = 0;
+  int64_t loop_closures_rejected = 0;  // weak match or torn graph
+  int64_t loop_closures_removed = 0;   // of those rejected: accepted by the matcher, removed after optimization
+  int64_t optimizations = 0;
+  std::array<int64_t, static_cast<int>(DropReason::kCount)> dropped{};
+  int64_t dropped_total() const;
+};
+
+// What one scan changed.
+struct ScanUpdate {
+  bool accepted = false;           // false: dropped (see counters)
+  StampedPose pose;                // the base in "map" at the scan's time
+  bool keyframe_added = false;
+  int loop_closures_accepted = 0;
+  int loop_closures_rejected = 0;
+  bool graph_changed = false;      // nodes, edges or poses changed
+  bool graph_optimized = false;
+  bool map_rerendered = false;     // every keyframe re-inserted at its optimized pose
+};
+
+class Slam {
+ public:
+  // Aborts on invalid options: load them through slam_config.h, which validates.
+  explicit Slam(SlamOptions options);
+
+  // Returns false when the message is dropped (counted by reason).
+  bool AddOdometry(const Odometry& odometry);
+  ScanUpdate AddScan(const LidarScan& scan);
+
+  const PoseGraph& graph() const { return graph_; }
+  // Increases with every change of the graph.
+  int64_t graph_revision() const { return graph_revision_; }
+  // Increases whenever a scan is inserted or the map is re-rendered.
+  int64_t map_revision() const { return map_revision_; }
+  OccupancyGrid RenderMap() const { return mapper_.Render(); }
+  // The latest SLAM pose (latest keyframe ⊕ odometry since it); none before the first scan.
+  const std::optional<StampedPose>& latest_pose() const { return latest_pose_; }
+  const SlamCounters& counters() const { return counters_; }
+  const SlamOptions& options() const { return options_; }
+  // Covariance of the latest sequential match, (x, y, yaw) in "map" (identity-scaled before any).
+  const Eigen::Matrix3d& latest_covariance() const { return latest_covariance_; }
+
+ private:
+  struct Keyframe {
+    int64_t utime = 0;
+    Pose2d odom_pose;  // odometry at the keyframe's scan
+    std::shared_ptr<const PointCloud2d> points;
+    LidarScan scan;    // kept to re-render the map after optimization
+  };
+
+  std::optional<Pose2d> OdometryAt(int64_t utime) const;
+  void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
+                   std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
+  void TryLoopClosure(int node_id, ScanUpdate* update);
+  // Optimizes, then removes loop closures that tear the graph; returns false if
+  // the closure just added (edge index `new_edge`) had to be removed.
+  bool OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update);
+  void RerenderMap();
+  Eigen::Matrix3d EdgeInformation(const Pose2d& from_pose, const Eigen::Matrix3d& covariance_map) const;
+  void Drop(DropReason reason) { ++counters_.dropped[static_cast<int>(reason)]; }
+
+  SlamOptions options_;
+  ScanMatcher matcher_;
+  PoseGraphOptimizer optimizer_;
+  OccupancyMapper mapper_;
+
+  PoseGraph graph_;
+  std::vector<Keyframe> keyframes_;  // keyframes_[i] is graph_.nodes[i]
+  int64_t graph_revision_ = 0;
+  int64_t map_revision_ = 0;
+  int last_closure_attempt_node_ = -1000000;
+
+  // Odometry, with a correction that hides resets ("rebases") of the raw stream.
+  std::deque<Odometry> odometry_;  // corrected, oldest first
+  Pose2d odometry_correction_;     // corrected = correction ⊕ raw
+  std::optional<Odometry> last_raw_odometry_;
+  std::optional<Odometry> jump_candidate_;  // a raw message rejected as a jump
+  int64_t last_scan_utime_ = -1;
+
+  std::optional<StampedPose> latest_pose_;
+  Eigen::Matrix3d latest_covariance_ = Eigen::Matrix3d::Identity();
+  SlamCounters counters_;
+};
+
+// Validates the options across components; throws std::invalid_argument naming the field.
+void ValidateSlamOptions(const SlamOptions& options);
+
+}  // namespace aslam

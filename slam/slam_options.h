@@ -1,0 +1,59 @@
+#pragma once
+
+// Every option of the SLAM component in one struct (DESIGN §7.4), loaded from
+// the `slam:` config section by slam_config.h.
+
+#include "slam/occupancy_mapper.h"
+#include "slam/pose_graph_optimizer.h"
+#include "slam/scan_matcher.h"
+
+namespace aslam {
+
+struct KeyframeOptions {
+  double travel_m = 0.3;      // a new keyframe after this much odometry travel...
+  double rotation_rad = 0.35; // ...or this much rotation
+};
+
+struct FrontEndOptions {
+  double point_spacing_m = 0.05;  // scan points thinned to this spacing before matching
+  int local_map_keyframes = 10;   // recent keyframes the new one is matched against
+  SearchWindow window{0.3, 0.35};
+  // Below this response the match is not trusted and odometry alone places the keyframe.
+  double min_response = 0.3;
+  // Information of an odometry-only sequential edge, as standard deviations per keyframe step.
+  double odometry_sigma_m = 0.05;
+  double odometry_sigma_rad = 0.03;
+};
+
+struct LoopClosureOptions {
+  bool enabled = true;
+  double search_radius_m = 4.0;   // candidates lie this close to the new keyframe...
+  int recent_chain_keyframes = 30;  // ...and are not among its newest predecessors
+  int neighbour_keyframes = 5;    // the candidate's local map: it and this many either side
+  SearchWindow window{2.0, 0.5};
+  double min_response = 0.55;     // a weaker match is rejected
+  // At most one attempt per this many keyframes, so one revisit is not closed over and over.
+  int keyframes_between_attempts = 5;
+  // After optimization, a loop-closure edge whose chi-square exceeds this tears the
+  // graph: it is removed and the graph re-optimized.
+  double max_chi_square = 25.0;
+};
+
+struct InputOptions {
+  int min_valid_points = 40;             // scans with fewer valid returns are dropped
+  double max_linear_speed_mps = 3.0;     // odometry faster than this between messages is a jump
+  double max_angular_speed_radps = 8.0;
+  double odometry_buffer_s = 5.0;        // odometry kept to look up the pose at a scan's time
+};
+
+struct SlamOptions {
+  KeyframeOptions keyframe;
+  FrontEndOptions front_end;
+  LoopClosureOptions loop_closure;
+  ScanMatcherOptions scan_matcher;
+  PoseGraphOptimizerOptions optimizer;
+  OccupancyMapperOptions mapper;
+  InputOptions input;
+};
+
+}  // namespace aslam
