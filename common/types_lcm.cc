@@ -1,5 +1,6 @@
 #include "common/types_lcm.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace aslam {
@@ -7,6 +8,18 @@ namespace {
 
 bool Finite(const Pose2d& pose) {
   return std::isfinite(pose.x_m) && std::isfinite(pose.y_m) && std::isfinite(pose.yaw_rad);
+}
+
+bool Symmetric(const Eigen::Matrix3d& m) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = r + 1; c < 3; ++c) {
+      const double a = m(r, c);
+      const double b = m(c, r);
+      // Relative: information entries span many orders of magnitude.
+      if (std::abs(a - b) > 1e-9 * std::max({1.0, std::abs(a), std::abs(b)})) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -136,6 +149,83 @@ std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg) {
                      {msg.origin.x_m, msg.origin.y_m});
   grid.mutable_cells() = msg.cells;
   return grid;
+}
+
+pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,
+                   int32_t loop_closures_accepted, int32_t loop_closures_rejected) {
+  pose_graph_t msg{};
+  msg.utime = utime;
+  msg.revision = revision;
+  msg.loop_closures_accepted = loop_closures_accepted;
+  msg.loop_closures_rejected = loop_closures_rejected;
+  msg.num_nodes = static_cast<int32_t>(graph.nodes.size());
+  msg.nodes.reserve(graph.nodes.size());
+  for (const PoseGraphNode& node : graph.nodes) {
+    pose_graph_node_t n{};
+    n.id = node.id;
+    n.utime = node.utime;
+    n.pose = ToLcm(node.pose);
+    msg.nodes.push_back(n);
+  }
+  msg.num_edges = static_cast<int32_t>(graph.edges.size());
+  msg.edges.reserve(graph.edges.size());
+  for (const PoseGraphEdge& edge : graph.edges) {
+    pose_graph_edge_t e{};
+    e.from_id = edge.from_id;
+    e.to_id = edge.to_id;
+    e.kind = edge.kind == EdgeKind::kLoopClosure ? pose_graph_edge_t::KIND_LOOP_CLOSURE
+                                                 : pose_graph_edge_t::KIND_ODOMETRY;
+    e.measurement = ToLcm(edge.measurement);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) e.information[3 * r + c] = edge.information(r, c);
+    }
+    msg.edges.push_back(e);
+  }
+  return msg;
+}
+
+std::optional<PoseGraph> FromLcm(const pose_graph_t& msg) {
+  if (msg.num_nodes < 0 || msg.num_edges < 0 ||
+      static_cast<std::size_t>(msg.num_nodes) != msg.nodes.size() ||
+      static_cast<std::size_t>(msg.num_edges) != msg.edges.size()) {
+    return std::nullopt;
+  }
+  PoseGraph graph;
+  graph.nodes.reserve(msg.nodes.size());
+  for (std::size_t i = 0; i < msg.nodes.size(); ++i) {
+    const pose_graph_node_t& n = msg.nodes[i];
+    PoseGraphNode node;
+    node.id = n.id;
+    node.utime = n.utime;
+    node.pose = FromLcm(n.pose);
+    if (node.id != static_cast<int>(i) || !Finite(node.pose)) return std::nullopt;
+    graph.nodes.push_back(node);
+  }
+  graph.edges.reserve(msg.edges.size());
+  for (const pose_graph_edge_t& e : msg.edges) {
+    PoseGraphEdge edge;
+    edge.from_id = e.from_id;
+    edge.to_id = e.to_id;
+    if (e.from_id < 0 || e.from_id >= msg.num_nodes || e.to_id < 0 || e.to_id >= msg.num_nodes ||
+        e.from_id == e.to_id) {
+      return std::nullopt;
+    }
+    if (e.kind == pose_graph_edge_t::KIND_ODOMETRY) {
+      edge.kind = EdgeKind::kOdometry;
+    } else if (e.kind == pose_graph_edge_t::KIND_LOOP_CLOSURE) {
+      edge.kind = EdgeKind::kLoopClosure;
+    } else {
+      return std::nullopt;
+    }
+    edge.measurement = FromLcm(e.measurement);
+    if (!Finite(edge.measurement)) return std::nullopt;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) edge.information(r, c) = e.information[3 * r + c];
+    }
+    if (!edge.information.allFinite() || !Symmetric(edge.information)) return std::nullopt;
+    graph.edges.push_back(edge);
+  }
+  return graph;
 }
 
 }  // namespace aslam

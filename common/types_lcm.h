@@ -11,9 +11,11 @@
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
 #include "aslam/pose2d_t.hpp"
+#include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/velocity_command_t.hpp"
 #include "common/occupancy_grid.h"
+#include "common/pose_graph.h"
 #include "common/sensor_types.h"
 
 namespace aslam {
@@ -41,5 +43,13 @@ occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revisio
 // Rejects sizes that disagree with num_cells, non-positive resolution,
 // a rotated origin and cell values outside -1..100.
 std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg);
+
+// POSE_GRAPH: the graph plus the publisher's revision and loop-closure counts.
+pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,
+                   int32_t loop_closures_accepted, int32_t loop_closures_rejected);
+// Rejects counts that disagree with the arrays, ids not dense from 0 in order,
+// non-finite poses, measurements or information, edges to missing nodes or to
+// themselves, unknown edge kinds and asymmetric information matrices.
+std::optional<PoseGraph> FromLcm(const pose_graph_t& msg);
 
 }  // namespace aslam

@@ -1,7 +1,10 @@
 #include "common/types_lcm.h"
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -83,6 +86,85 @@ TEST(TypesLcm, OccupancyGridRoundTripAndValidation) {
   occupancy_grid_t rotated = msg;
   rotated.origin.yaw_rad = 0.1;
   EXPECT_FALSE(FromLcm(rotated).has_value());
+}
+
+PoseGraph SmallGraph() {
+  PoseGraph graph;
+  graph.nodes = {{0, 100, {0.0, 0.0, 0.0}}, {1, 200, {0.3, 0.01, 0.1}}, {2, 300, {0.6, -0.2, 3.1}}};
+  PoseGraphEdge odometry;
+  odometry.from_id = 0;
+  odometry.to_id = 1;
+  odometry.measurement = {0.3, 0.01, 0.1};
+  odometry.information << 400.0, 1.5, -0.25, 1.5, 350.0, 0.125, -0.25, 0.125, 1e4;
+  PoseGraphEdge closure = odometry;
+  closure.from_id = 2;
+  closure.to_id = 0;
+  closure.kind = EdgeKind::kLoopClosure;
+  closure.measurement = {-0.6, 0.2, -3.1};
+  closure.information(0, 0) = 1.0 / 3.0;  // not exactly representable in decimal: still exact
+  graph.edges = {odometry, closure};
+  return graph;
+}
+
+TEST(TypesLcm, PoseGraphRoundTripIsExact) {
+  const PoseGraph graph = SmallGraph();
+  const pose_graph_t msg = WireRoundTrip(ToLcm(graph, 300, 7, 1, 2));
+  EXPECT_EQ(msg.utime, 300);
+  EXPECT_EQ(msg.revision, 7);
+  EXPECT_EQ(msg.loop_closures_accepted, 1);
+  EXPECT_EQ(msg.loop_closures_rejected, 2);
+  EXPECT_EQ(msg.edges[1].kind, pose_graph_edge_t::KIND_LOOP_CLOSURE);
+  EXPECT_EQ(msg.edges[0].information[1], 1.5);  // row-major
+  const auto back = FromLcm(msg);
+  ASSERT_TRUE(back.has_value());
+  ASSERT_EQ(back->nodes.size(), graph.nodes.size());
+  ASSERT_EQ(back->edges.size(), graph.edges.size());
+  for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
+    EXPECT_EQ(back->nodes[i].id, graph.nodes[i].id);
+    EXPECT_EQ(back->nodes[i].utime, graph.nodes[i].utime);
+    EXPECT_EQ(back->nodes[i].pose.x_m, graph.nodes[i].pose.x_m);
+    EXPECT_EQ(back->nodes[i].pose.y_m, graph.nodes[i].pose.y_m);
+    EXPECT_EQ(back->nodes[i].pose.yaw_rad, graph.nodes[i].pose.yaw_rad);
+  }
+  for (std::size_t i = 0; i < graph.edges.size(); ++i) {
+    EXPECT_EQ(back->edges[i].from_id, graph.edges[i].from_id);
+    EXPECT_EQ(back->edges[i].to_id, graph.edges[i].to_id);
+    EXPECT_EQ(back->edges[i].kind, graph.edges[i].kind);
+    EXPECT_EQ(back->edges[i].measurement.x_m, graph.edges[i].measurement.x_m);
+    EXPECT_EQ(back->edges[i].measurement.y_m, graph.edges[i].measurement.y_m);
+    EXPECT_EQ(back->edges[i].measurement.yaw_rad, graph.edges[i].measurement.yaw_rad);
+    EXPECT_EQ(back->edges[i].information, graph.edges[i].information);
+  }
+  // The empty graph (before the first keyframe) is valid too.
+  const auto empty = FromLcm(WireRoundTrip(ToLcm(PoseGraph{}, 0, 0, 0, 0)));
+  ASSERT_TRUE(empty.has_value());
+  EXPECT_TRUE(empty->nodes.empty());
+}
+
+TEST(TypesLcm, MalformedPoseGraphsAreRejected) {
+  const pose_graph_t good = ToLcm(SmallGraph(), 300, 7, 1, 2);
+  ASSERT_TRUE(FromLcm(good).has_value());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<const char*, std::function<void(pose_graph_t*)>>> breaks = {
+      {"num_nodes disagrees", [](pose_graph_t* m) { m->num_nodes = 2; }},
+      {"num_edges disagrees", [](pose_graph_t* m) { m->num_edges = 3; }},
+      {"ids not dense", [](pose_graph_t* m) { m->nodes[2].id = 3; }},
+      {"ids out of order", [](pose_graph_t* m) { std::swap(m->nodes[0].id, m->nodes[1].id); }},
+      {"node pose NaN", [nan](pose_graph_t* m) { m->nodes[1].pose.yaw_rad = nan; }},
+      {"edge to a missing node", [](pose_graph_t* m) { m->edges[0].to_id = 3; }},
+      {"negative id", [](pose_graph_t* m) { m->edges[1].from_id = -1; }},
+      {"edge to itself", [](pose_graph_t* m) { m->edges[0].to_id = 0; }},
+      {"unknown kind", [](pose_graph_t* m) { m->edges[0].kind = 2; }},
+      {"measurement inf",
+       [](pose_graph_t* m) { m->edges[1].measurement.x_m = std::numeric_limits<double>::infinity(); }},
+      {"information NaN", [nan](pose_graph_t* m) { m->edges[0].information[4] = nan; }},
+      {"information asymmetric", [](pose_graph_t* m) { m->edges[1].information[5] = 0.5; }},
+  };
+  for (const auto& [what, apply] : breaks) {
+    pose_graph_t bad = good;
+    apply(&bad);
+    EXPECT_FALSE(FromLcm(bad).has_value()) << what;
+  }
 }
 
 }  // namespace

@@ -1,1 +1,110 @@
-// placeholder: being written
+#include "slam/slam_node.h"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "aslam/occupancy_grid_t.hpp"
+#include "aslam/pose_graph_t.hpp"
+#include "aslam/pose_t.hpp"
+#include "common/channels.h"
+#include "common/map_io.h"
+#include "common/types_lcm.h"
+#include "slam/g2o_io.h"
+#include "slam/slam_lcm.h"
+
+namespace aslam {
+
+SlamNode::SlamNode(lcm::LCM& lcm, SlamOptions options, SlamNodeOptions node_options)
+    : lcm_(lcm), slam_(std::move(options)), node_options_(node_options), subscriptions_(lcm) {
+  subscriptions_.Add<odometry_t>(channels::kOdometry,
+                                 [this](const odometry_t& m) { return OnOdometry(m); });
+  subscriptions_.Add<lidar_scan_t>(channels::kLidarScan,
+                                   [this](const lidar_scan_t& m) { return OnScan(m); });
+}
+
+bool SlamNode::OnOdometry(const odometry_t& msg) {
+  const auto odometry = FromLcm(msg);
+  if (!odometry || !slam_.AddOdometry(*odometry)) return false;
+  linear_velocity_mps_ = odometry->linear_velocity_mps;
+  angular_velocity_radps_ = odometry->angular_velocity_radps;
+  return true;
+}
+
+bool SlamNode::OnScan(const lidar_scan_t& msg) {
+  const auto scan = FromLcm(msg);
+  if (!scan) return false;
+  const ScanUpdate update = slam_.AddScan(*scan);
+  if (!update.accepted) return false;
+
+  StampedPose pose = update.pose;
+  pose.linear_velocity_mps = linear_velocity_mps_;
+  pose.angular_velocity_radps = angular_velocity_radps_;
+  const pose_t pose_msg = SlamPoseToLcm(pose, slam_.latest_covariance());
+  lcm_.publish(channels::kSlamPose, &pose_msg);
+  ++poses_published_;
+
+  if (update.graph_changed) {
+    const pose_graph_t graph_msg = SlamGraphToLcm(slam_, scan->utime);
+    lcm_.publish(channels::kPoseGraph, &graph_msg);
+    ++graphs_published_;
+  }
+
+  const bool map_changed = slam_.map_revision() != published_map_revision_;
+  // Consumers must see a closure's corrected map at once, not up to a period later.
+  const bool urgent = update.map_rerendered || update.loop_closures_accepted > 0;
+  const int64_t period_us = std::llround(node_options_.map_period_s * 1e6);
+  const bool due = maps_published_ == 0 || scan->utime - last_map_utime_ >= period_us;
+  if (map_changed && (urgent || due)) PublishMap(scan->utime);
+  return true;
+}
+
+void SlamNode::PublishMap(int64_t utime) {
+  const OccupancyGrid map = slam_.RenderMap();
+  if (map.empty()) return;
+  const occupancy_grid_t msg = SlamMapToLcm(map, utime, slam_.map_revision());
+  lcm_.publish(channels::kSlamMap, &msg);
+  published_map_revision_ = slam_.map_revision();
+  last_map_utime_ = utime;
+  ++maps_published_;
+}
+
+bool SlamNode::WriteOutputs(const std::string& dir) const {
+  std::filesystem::create_directories(dir);
+  WriteG2o(slam_.graph(), dir + "/graph.g2o");
+  const OccupancyGrid map = slam_.RenderMap();
+  if (map.empty()) return false;
+  SaveMap(map, dir + "/map");
+  return true;
+}
+
+std::string SlamNode::CountersReport() const {
+  const SlamCounters& c = slam_.counters();
+  std::ostringstream out;
+  out << "odometry " << c.odometry_received << " received; scans " << c.scans_received
+      << " received, " << c.scans_processed << " processed, " << c.invalid_beams
+      << " invalid beams ignored\n"
+      << "graph: " << slam_.graph().nodes.size() << " keyframes, " << slam_.graph().edges.size()
+      << " edges, revision " << slam_.graph_revision() << "; loop closures "
+      << c.loop_closures_accepted << " accepted, " << c.loop_closures_rejected << " rejected ("
+      << c.loop_closures_removed << " removed after optimization); " << c.optimizations
+      << " optimizations; " << c.matches_low_response << " low-response matches; "
+      << c.odometry_rebases << " odometry rebases\n"
+      << "published: " << poses_published_ << " poses, " << graphs_published_ << " graphs, "
+      << maps_published_ << " maps\n"
+      << "dropped by slam: " << c.dropped_total();
+  for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i) {
+    out << (i == 0 ? " (" : ", ") << DropReasonName(static_cast<DropReason>(i)) << " "
+        << c.dropped[i];
+  }
+  out << ")\n";
+  for (const char* channel : {channels::kOdometry, channels::kLidarScan}) {
+    const ChannelStats& s = subscriptions_.stats(channel);
+    out << channel << ": " << s.received << " handled, " << s.decode_failures
+        << " decode failures, " << s.rejected << " rejected, " << s.handler_errors
+        << " handler errors\n";
+  }
+  return out.str();
+}
+
+}  // namespace aslam

@@ -1,0 +1,35 @@
+#pragma once
+
+// The loader of the `slam:` config section: SlamOptions for the library and
+// SlamNodeOptions for its LCM node (`slam.node`), read and validated once at
+// load time (DESIGN §7.4).
+
+#include <string>
+
+#include "common/config.h"
+#include "slam/slam_options.h"
+
+namespace aslam {
+
+// How the node publishes; no algorithm here.
+struct SlamNodeOptions {
+  // SLAM_MAP at most once per this many seconds of message time (plus after
+  // every loop closure / re-render).
+  double map_period_s = 1.0;
+};
+
+struct SlamConfig {
+  SlamOptions slam;
+  SlamNodeOptions node;
+};
+
+// Reads and validates the whole `slam` section; throws ConfigError naming file, key and value.
+SlamConfig LoadSlamConfig(const ConfigReader& slam_section);
+// The `slam` section of `file`; "" gives the defaults.
+SlamConfig LoadSlamConfigFromFile(const std::string& file);
+
+// The library's part of the same (the `node` subsection is checked, then left out).
+SlamOptions LoadSlamOptions(const ConfigReader& slam_section);
+SlamOptions LoadSlamOptionsFromFile(const std::string& file);
+
+}  // namespace aslam
