@@ -9,22 +9,9 @@ src="$1"
 build="$2"
 nav="$build/navigation/aslam-nav"
 sim="$build/drivers/aslam-sim"
-monitor="$build/tools/aslam-monitor"
 
-if [[ -z "${ASLAM_IN_NETNS:-}" ]] && unshare -rn true 2>/dev/null; then
-  ASLAM_IN_NETNS=1 exec "$src/scripts/in-private-netns" "$0" "$@"
-fi
-
-url="udpm://239.255.76.67:$((7900 + $$ % 100))?ttl=0"
-failures=0
-check() {  # check NAME COMMAND...: runs the command, counts a failure
-  local name="$1"
-  shift
-  if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failures=$((failures + 1)); fi
-}
-
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+port_base=7900
+source "$src/tests/process_test_lib.sh"
 
 "$nav" --lcm-url "$url" --config "$src/config/aslam.yaml" >"$out/nav.txt" 2>&1 &
 nav_pid=$!
@@ -39,10 +26,6 @@ wait $nav_pid
 nav_rc=$?
 cat "$out/nav.txt" "$out/monitor.txt"
 
-heard() {  # heard CHANNEL TYPE MIN: the monitor's last table has at least MIN messages
-  awk -v c="$1" -v t="$2" -v min="$3" '$1 == c && $2 == t { n = $3 } END { exit !(n >= min) }' \
-    "$out/monitor.txt"
-}
 check "CMD_VEL heard, one per scan" heard CMD_VEL aslam.velocity_command_t 60
 check "NAV_STATUS heard" heard NAV_STATUS aslam.nav_status_t 60
 check "SIGTERM exits 0" test "$nav_rc" -eq 0

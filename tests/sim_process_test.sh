@@ -8,22 +8,9 @@ set -uo pipefail
 src="$1"
 build="$2"
 sim="$build/drivers/aslam-sim"
-monitor="$build/tools/aslam-monitor"
 
-if [[ -z "${ASLAM_IN_NETNS:-}" ]] && unshare -rn true 2>/dev/null; then
-  ASLAM_IN_NETNS=1 exec "$src/scripts/in-private-netns" "$0" "$@"
-fi
-
-url="udpm://239.255.76.67:$((7800 + $$ % 100))?ttl=0"
-failures=0
-check() {  # check NAME COMMAND...: runs the command, counts a failure
-  local name="$1"
-  shift
-  if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failures=$((failures + 1)); fi
-}
-
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+port_base=7800
+source "$src/tests/process_test_lib.sh"
 
 "$monitor" --lcm-url "$url" --duration 4 --period 100 >"$out/monitor.txt" 2>&1 &
 monitor_pid=$!
@@ -34,10 +21,6 @@ sim_rc=$?
 wait $monitor_pid
 cat "$out/sim.txt" "$out/monitor.txt"
 
-heard() {  # heard CHANNEL TYPE MIN: the monitor's last table has at least MIN messages
-  awk -v c="$1" -v t="$2" -v min="$3" '$1 == c && $2 == t { n = $3 } END { exit !(n >= min) }' \
-    "$out/monitor.txt"
-}
 check "aslam-sim exits 0 after --duration" test "$sim_rc" -eq 0
 check "ran 10 simulated seconds" grep -q "stopped after 10.0 simulated s, 0 collisions" "$out/sim.txt"
 check "LIDAR_SCAN heard" heard LIDAR_SCAN aslam.lidar_scan_t 90
