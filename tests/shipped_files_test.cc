@@ -11,6 +11,8 @@
 #include "drivers/scripted_drive.h"
 #include "drivers/sim_config.h"
 #include "drivers/simulator.h"
+#include "navigation/nav_config.h"
+#include "slam/slam_config.h"
 #include "worlds/worldgen.h"
 
 namespace aslam {
@@ -34,6 +36,8 @@ TEST(ShippedFiles, EveryConfigLoadsEverySection) {
   for (const auto& file : configs) {
     SCOPED_TRACE(file.string());
     EXPECT_NO_THROW(LoadSimulatorOptions(ConfigReader::FromFile(file.string(), "sim")));
+    EXPECT_NO_THROW(LoadSlamConfig(ConfigReader::FromFile(file.string(), "slam")));
+    EXPECT_NO_THROW(LoadNavOptions(ConfigReader::FromFile(file.string(), "nav")));
   }
 }
 
