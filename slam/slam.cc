@@ -289,7 +289,7 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
   }
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
   keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan});
-  mapper_.InsertScan(pose, scan);
+  if (!map_stale_) mapper_.InsertScan(pose, scan);  // a stale map is rebuilt from every keyframe
   ++map_revision_;
   ++graph_revision_;
   update->keyframe_added = true;
@@ -344,8 +344,9 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
     ++counters_.loop_closures_rejected;
     ++update->loop_closures_rejected;
   }
-  RerenderMap();
-  update->map_rerendered = true;
+  map_stale_ = true;
+  ++map_revision_;
+  update->map_invalidated = true;
 }
 
 bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
@@ -395,12 +396,15 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
   return new_edge_alive;
 }
 
-void Slam::RerenderMap() {
-  mapper_.Clear();
-  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-    mapper_.InsertScan(graph_.nodes[i].pose, keyframes_[i].scan);
+OccupancyGrid Slam::RenderMap() {
+  if (map_stale_) {
+    mapper_.Clear();
+    for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+      mapper_.InsertScan(graph_.nodes[i].pose, keyframes_[i].scan);
+    }
+    map_stale_ = false;
   }
-  ++map_revision_;
+  return mapper_.Render();
 }
 
 }  // namespace aslam

@@ -30,7 +30,7 @@ std::atomic<bool> g_stop{false};
 std::atomic<bool> g_save{false};
 
 // Failing to save is reported, not fatal: SLAM keeps running (or exits cleanly).
-void Save(const SlamNode& node) {
+void Save(SlamNode& node) {
   if (FLAGS_out_dir.empty()) {
     std::printf("aslam-slam: no --out-dir, nothing written\n");
     return;

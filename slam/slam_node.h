@@ -27,12 +27,13 @@ class SlamNode {
   // Writes `dir`/map.yaml + map.pgm (ROS map_server format) and `dir`/graph.g2o,
   // creating `dir`. Before the first scan there is no map: only the graph is
   // written and false returned. Throws std::runtime_error naming the file on failure.
-  bool WriteOutputs(const std::string& dir) const;
+  bool WriteOutputs(const std::string& dir);
 
   // Multi-line summary of what came in and what was dropped, by channel and reason.
   std::string CountersReport() const;
 
   const Slam& slam() const { return slam_; }
+  Slam& slam() { return slam_; }
   const Subscriptions& subscriptions() const { return subscriptions_; }
   int64_t poses_published() const { return poses_published_; }
   int64_t graphs_published() const { return graphs_published_; }

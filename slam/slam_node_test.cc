@@ -91,6 +91,7 @@ class Harness {
   }
 
   const SlamNode& node() const { return slam_node_; }
+  SlamNode& mutable_node() { return slam_node_; }
   const Subscriptions& listener() const { return listener_; }
 
   std::vector<lidar_scan_t> scans;
@@ -215,7 +216,7 @@ TEST_F(SlamNodeDrive, PublishesTheMapAtMostOncePerSecondOfMessageTimeAndAfterClo
 }
 
 TEST_F(SlamNodeDrive, WriteOutputsWritesALoadableMapAndTheGraph) {
-  const SlamNode& node = harness_->node();
+  SlamNode& node = harness_->mutable_node();
   const std::string dir = ::testing::TempDir() + "/slam_node_test_outputs/run";
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(node.WriteOutputs(dir));
@@ -239,7 +240,7 @@ TEST_F(SlamNodeDrive, WriteOutputsWritesALoadableMapAndTheGraph) {
 
 TEST(SlamNode, WriteOutputsBeforeAnyScanWritesOnlyTheGraph) {
   InProcessHost host;
-  const SlamNode node(host.lcm(), SlamOptions{});
+  SlamNode node(host.lcm(), SlamOptions{});
   const std::string dir = ::testing::TempDir() + "/slam_node_test_outputs/empty";
   std::filesystem::remove_all(dir);
   EXPECT_FALSE(node.WriteOutputs(dir));
