@@ -1,1 +1,412 @@
-// placeholder: being written
+#include "utility/spanning_trees.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cholmod.h>
+
+namespace aslam {
+namespace {
+
+constexpr double kEigenvalueFloor = 1e-8;  // DESIGN §5: smaller eigenvalues are skipped
+
+[[noreturn]] void Fail(const char* what) {
+  std::fprintf(stderr, "spanning_trees: %s\n", what);
+  std::abort();
+}
+
+void CheckEdge(const WeightedEdge& edge, int num_nodes) {
+  if (edge.from < 0 || edge.to < 0 || edge.from >= num_nodes || edge.to >= num_nodes) {
+    Fail("edge endpoint out of range");
+  }
+  if (!std::isfinite(edge.weight) || edge.weight < 0.0) Fail("edge weight negative or not finite");
+}
+
+// Calls `add(row, col, value)` with the reduced Laplacian's entries (node k -> row k-1;
+// node 0 dropped), upper triangle only (row <= col); duplicates are meant to be summed.
+template <typename Add>
+void ForEachReducedLaplacianEntry(const WeightedGraph& base, const GraphExtension& extension,
+                                  Add add) {
+  const int num_nodes = base.num_nodes + extension.num_new_nodes;
+  auto visit = [&](const WeightedEdge& edge) {
+    CheckEdge(edge, num_nodes);
+    if (edge.from == edge.to) return;  // a self-loop is not in the Laplacian
+    const int a = edge.from - 1;
+    const int b = edge.to - 1;
+    if (a >= 0) add(a, a, edge.weight);
+    if (b >= 0) add(b, b, edge.weight);
+    if (a >= 0 && b >= 0) add(std::min(a, b), std::max(a, b), -edge.weight);
+  };
+  for (const WeightedEdge& edge : base.edges) visit(edge);
+  for (const WeightedEdge& edge : extension.edges) visit(edge);
+}
+
+// A cholmod_common set up the same way everywhere: AMD only (deterministic and
+// cheap on these very sparse graphs), simplicial LDLᵀ (DESIGN §5: the Bset
+// solves need a simplicial factor from the start), quiet (we check status).
+struct Cholmod {
+  cholmod_common common;
+  Cholmod() {
+    cholmod_start(&common);
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_AMD;
+    common.postorder = true;
+    common.supernodal = CHOLMOD_SIMPLICIAL;
+    common.final_ll = false;
+    common.print = 0;
+  }
+  ~Cholmod() { cholmod_finish(&common); }
+  Cholmod(const Cholmod&) = delete;
+  Cholmod& operator=(const Cholmod&) = delete;
+};
+
+cholmod_sparse* BuildReducedLaplacian(const WeightedGraph& base, const GraphExtension& extension,
+                                      cholmod_common* common) {
+  const int n = base.num_nodes + extension.num_new_nodes - 1;
+  const std::size_t max_entries = 3 * (base.edges.size() + extension.edges.size()) + 1;
+  cholmod_triplet* triplet = cholmod_allocate_triplet(n, n, max_entries, /*stype=*/1, CHOLMOD_REAL, common);
+  if (triplet == nullptr) Fail("cholmod_allocate_triplet failed");
+  auto* rows = static_cast<int*>(triplet->i);
+  auto* cols = static_cast<int*>(triplet->j);
+  auto* values = static_cast<double*>(triplet->x);
+  std::size_t count = 0;
+  ForEachReducedLaplacianEntry(base, extension, [&](int row, int col, double value) {
+    rows[count] = row;
+    cols[count] = col;
+    values[count] = value;
+    ++count;
+  });
+  triplet->nnz = count;
+  // Duplicates are summed here, so parallel edges add.
+  cholmod_sparse* matrix = cholmod_triplet_to_sparse(triplet, count, common);
+  cholmod_free_triplet(&triplet, common);
+  if (matrix == nullptr) Fail("cholmod_triplet_to_sparse failed");
+  return matrix;
+}
+
+// log det of the factored matrix: Σ log D (simplicial LDLᵀ) or 2 Σ log diag(L) (LLᵀ).
+double LogDetOfFactor(const cholmod_factor* factor) {
+  const auto* x = static_cast<const double*>(factor->x);
+  double log_det = 0.0;
+  if (factor->is_super) {
+    const auto* super = static_cast<const int*>(factor->super);
+    const auto* pi = static_cast<const int*>(factor->pi);
+    const auto* px = static_cast<const int*>(factor->px);
+    for (std::size_t s = 0; s < factor->nsuper; ++s) {
+      const int num_cols = super[s + 1] - super[s];
+      const int num_rows = pi[s + 1] - pi[s];
+      for (int j = 0; j < num_cols; ++j) log_det += 2.0 * std::log(x[px[s] + j + j * num_rows]);
+    }
+    return log_det;
+  }
+  const auto* p = static_cast<const int*>(factor->p);
+  const double scale = factor->is_ll ? 2.0 : 1.0;
+  for (std::size_t j = 0; j < factor->n; ++j) log_det += scale * std::log(x[p[j]]);
+  return log_det;
+}
+
+}  // namespace
+
+double DOptimality(const Eigen::Matrix3d& information) {
+  // DESIGN §5 (and the AGS authors' code): exp((1/3)·Σ log λ_k) over λ_k > 1e-8,
+  // i.e. skipped eigenvalues still count in the 1/3.
+  const Eigen::Matrix3d symmetric = 0.5 * (information + information.transpose());
+  const Eigen::Vector3d eigenvalues =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
+  double sum_log = 0.0;
+  int used = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (eigenvalues[k] > kEigenvalueFloor) {
+      sum_log += std::log(eigenvalues[k]);
+      ++used;
+    }
+  }
+  if (used == 0) return 0.0;
+  return std::exp(sum_log / 3.0);
+}
+
+double EOptimality(const Eigen::Matrix3d& information) {
+  const Eigen::Matrix3d symmetric = 0.5 * (information + information.transpose());
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(symmetric, Eigen::EigenvaluesOnly)
+      .eigenvalues()
+      .minCoeff();
+}
+
+WeightedGraph ToWeightedGraph(const PoseGraph& graph) {
+  WeightedGraph weighted;
+  weighted.num_nodes = static_cast<int>(graph.nodes.size());
+  weighted.edges.reserve(graph.edges.size());
+  for (const PoseGraphEdge& edge : graph.edges) {
+    if (edge.from_id < 0 || edge.to_id < 0 || edge.from_id >= weighted.num_nodes ||
+        edge.to_id >= weighted.num_nodes) {
+      Fail("pose graph edge refers to a missing node");
+    }
+    weighted.edges.push_back({edge.from_id, edge.to_id, DOptimality(edge.information)});
+  }
+  return weighted;
+}
+
+double LogDetReducedLaplacianDense(const WeightedGraph& base, const GraphExtension& extension) {
+  const int n = base.num_nodes + extension.num_new_nodes - 1;
+  if (n < 0) Fail("log det of an empty graph");
+  if (n == 0) return 0.0;  // one vertex: one (empty) spanning tree
+  Eigen::MatrixXd laplacian = Eigen::MatrixXd::Zero(n, n);
+  ForEachReducedLaplacianEntry(base, extension, [&](int row, int col, double value) {
+    laplacian(row, col) += value;
+    if (row != col) laplacian(col, row) += value;
+  });
+  const Eigen::LLT<Eigen::MatrixXd> llt(laplacian);
+  // Not positive definite: the graph is disconnected, no spanning tree.
+  if (llt.info() != Eigen::Success) return -std::numeric_limits<double>::infinity();
+  return 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+}
+
+double LogDetReducedLaplacianSparse(const WeightedGraph& base, const GraphExtension& extension) {
+  const int n = base.num_nodes + extension.num_new_nodes - 1;
+  if (n < 0) Fail("log det of an empty graph");
+  if (n == 0) return 0.0;
+  Cholmod cholmod;
+  cholmod_sparse* matrix = BuildReducedLaplacian(base, extension, &cholmod.common);
+  cholmod_factor* factor = cholmod_analyze(matrix, &cholmod.common);
+  if (factor == nullptr) Fail("cholmod_analyze failed");
+  cholmod_factorize(matrix, factor, &cholmod.common);
+  double log_det = -std::numeric_limits<double>::infinity();
+  if (cholmod.common.status == CHOLMOD_OK && factor->minor == factor->n) {
+    log_det = LogDetOfFactor(factor);
+  } else if (cholmod.common.status != CHOLMOD_NOT_POSDEF) {
+    Fail("cholmod_factorize failed");
+  }
+  cholmod_free_factor(&factor, &cholmod.common);
+  cholmod_free_sparse(&matrix, &cholmod.common);
+  return log_det;
+}
+
+double U1FromLogDet(double log_det, int num_nodes) {
+  if (num_nodes < 1) Fail("U1 of a graph without vertices");
+  // n^(1/n)·exp(log det/n) in log space: det itself overflows for large graphs.
+  return std::exp((std::log(static_cast<double>(num_nodes)) + log_det) / num_nodes);
+}
+
+// The incremental way (DESIGN §5). With A the base reduced Laplacian and the
+// extended one [[A + ΔA, B], [Bᵀ, C]] (ΔA and B nonzero only on the few old
+// nodes T that extension edges touch):
+//   log det = log det A + log det(I + Rᵀ W R) + log det(C − B_Tᵀ S' B_T),
+// where S = (A⁻¹)_TT = R Rᵀ, W = ΔA_TT (matrix determinant lemma in the
+// symmetric form), S' = ((A + ΔA)⁻¹)_TT = R (I + Rᵀ W R)⁻¹ Rᵀ (Woodbury).
+// With P A Pᵀ = L D Lᵀ, S_ij = y_iᵀ D⁻¹ y_j, y_i = L⁻¹ P e_i: one sparse
+// forward solve per old node, cached for the life of this object.
+struct IncrementalLogDet::Impl {
+  struct SparseVector {
+    std::vector<int> index;  // permuted positions (the etree path of the node)
+    std::vector<double> value;
+  };
+
+  int num_base_nodes = 0;
+  int n = 0;  // size of A = num_base_nodes - 1
+  double base_log_det = 0.0;
+  Cholmod cholmod;
+  cholmod_factor* factor = nullptr;
+  std::vector<int> inverse_perm;  // node k-1 -> permuted position
+  std::vector<double> inverse_d;  // 1 / D, in permuted order
+  std::unordered_map<int, SparseVector> solves;  // by reduced index k-1
+  // cholmod_solve2 buffers, reused across solves.
+  cholmod_dense* rhs = nullptr;
+  cholmod_sparse* rhs_set = nullptr;
+  cholmod_dense* solution = nullptr;
+  cholmod_sparse* solution_set = nullptr;
+  cholmod_dense* work_y = nullptr;
+  cholmod_dense* work_e = nullptr;
+
+  ~Impl() {
+    cholmod_common* c = &cholmod.common;
+    if (factor != nullptr) cholmod_free_factor(&factor, c);
+    if (rhs != nullptr) cholmod_free_dense(&rhs, c);
+    if (rhs_set != nullptr) cholmod_free_sparse(&rhs_set, c);
+    if (solution != nullptr) cholmod_free_dense(&solution, c);
+    if (solution_set != nullptr) cholmod_free_sparse(&solution_set, c);
+    if (work_y != nullptr) cholmod_free_dense(&work_y, c);
+    if (work_e != nullptr) cholmod_free_dense(&work_e, c);
+  }
+
+  const SparseVector& Solve(int reduced_index) {
+    auto found = solves.find(reduced_index);
+    if (found != solves.end()) return found->second;
+    cholmod_common* c = &cholmod.common;
+    // CHOLMOD 3.0.14 pitfall: with CHOLMOD_L the Bset (and B) are in permuted order.
+    const int position = inverse_perm[reduced_index];
+    auto* b = static_cast<double*>(rhs->x);
+    b[position] = 1.0;
+    static_cast<int*>(rhs_set->p)[0] = 0;
+    static_cast<int*>(rhs_set->p)[1] = 1;
+    static_cast<int*>(rhs_set->i)[0] = position;
+    if (!cholmod_solve2(CHOLMOD_L, factor, rhs, rhs_set, &solution, &solution_set, &work_y,
+                        &work_e, c)) {
+      Fail("cholmod_solve2 failed");
+    }
+    b[position] = 0.0;  // keep B all-zero for the next unit right-hand side
+    // Only the Xset entries of X are valid (the rest are stale).
+    const auto* x = static_cast<const double*>(solution->x);
+    const auto* set_p = static_cast<const int*>(solution_set->p);
+    const auto* set_i = static_cast<const int*>(solution_set->i);
+    SparseVector vector;
+    vector.index.assign(set_i + set_p[0], set_i + set_p[1]);
+    vector.value.reserve(vector.index.size());
+    for (int k : vector.index) vector.value.push_back(x[k]);
+    return solves.emplace(reduced_index, std::move(vector)).first->second;
+  }
+
+  // S = (A⁻¹)_TT, S_ij = y_iᵀ D⁻¹ y_j: scatter D⁻¹ y_i into a dense buffer, gather y_j.
+  Eigen::MatrixXd InverseBlock(const std::vector<const SparseVector*>& y) {
+    const int t = static_cast<int>(y.size());
+    Eigen::MatrixXd block(t, t);
+    for (int i = 0; i < t; ++i) {
+      const SparseVector& a = *y[i];
+      for (std::size_t k = 0; k < a.index.size(); ++k) {
+        scatter[a.index[k]] = a.value[k] * inverse_d[a.index[k]];
+      }
+      for (int j = 0; j <= i; ++j) {
+        const SparseVector& b = *y[j];
+        double sum = 0.0;
+        for (std::size_t k = 0; k < b.index.size(); ++k) sum += scatter[b.index[k]] * b.value[k];
+        block(i, j) = block(j, i) = sum;
+      }
+      for (int k : a.index) scatter[k] = 0.0;  // back to all-zero for the next row
+    }
+    return block;
+  }
+
+  std::vector<double> scatter;  // all-zero between uses, size n
+};
+
+IncrementalLogDet::IncrementalLogDet(const WeightedGraph& base) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  if (base.num_nodes < 1) Fail("IncrementalLogDet of an empty graph");
+  m.num_base_nodes = base.num_nodes;
+  m.n = base.num_nodes - 1;
+  if (m.n == 0) return;  // A is empty: every extension is its own block C
+  cholmod_common* c = &m.cholmod.common;
+  cholmod_sparse* matrix = BuildReducedLaplacian(base, {}, c);
+  m.factor = cholmod_analyze(matrix, c);
+  if (m.factor == nullptr) Fail("cholmod_analyze failed");
+  cholmod_factorize(matrix, m.factor, c);
+  cholmod_free_sparse(&matrix, c);
+  if (c->status != CHOLMOD_OK || m.factor->minor != m.factor->n) {
+    Fail("base graph not connected: its reduced Laplacian is not positive definite");
+  }
+  if (m.factor->is_super || m.factor->is_ll) Fail("expected a simplicial LDLᵀ factor");
+  m.base_log_det = LogDetOfFactor(m.factor);
+  const auto* perm = static_cast<const int*>(m.factor->Perm);
+  const auto* p = static_cast<const int*>(m.factor->p);
+  const auto* x = static_cast<const double*>(m.factor->x);
+  m.inverse_perm.resize(m.n);
+  m.inverse_d.resize(m.n);
+  m.scatter.assign(m.n, 0.0);
+  for (int k = 0; k < m.n; ++k) {
+    m.inverse_perm[perm[k]] = k;
+    m.inverse_d[k] = 1.0 / x[p[k]];  // D sits on L's diagonal in a simplicial LDLᵀ
+  }
+  m.rhs = cholmod_zeros(m.n, 1, CHOLMOD_REAL, c);
+  m.rhs_set = cholmod_allocate_sparse(m.n, 1, 1, /*sorted=*/true, /*packed=*/true, /*stype=*/0,
+                                      CHOLMOD_PATTERN, c);
+  if (m.rhs == nullptr || m.rhs_set == nullptr) Fail("cholmod allocation failed");
+}
+
+IncrementalLogDet::~IncrementalLogDet() = default;
+
+double IncrementalLogDet::base_log_det() const { return impl_->base_log_det; }
+
+int IncrementalLogDet::cached_solves() const { return static_cast<int>(impl_->solves.size()); }
+
+double IncrementalLogDet::LogDet(const GraphExtension& extension) {
+  Impl& m = *impl_;
+  const int num_base = m.num_base_nodes;
+  const int num_new = extension.num_new_nodes;
+  if (num_new < 0) Fail("negative number of new nodes");
+  const int num_nodes = num_base + num_new;
+
+  // T: old non-root nodes touched by extension edges, in first-seen order.
+  std::vector<int> touched;  // reduced indices (node - 1)
+  std::unordered_map<int, int> slot;
+  auto slot_of = [&](int node) {
+    auto [it, inserted] = slot.emplace(node - 1, static_cast<int>(touched.size()));
+    if (inserted) touched.push_back(node - 1);
+    return it->second;
+  };
+  for (const WeightedEdge& edge : extension.edges) {
+    CheckEdge(edge, num_nodes);
+    if (edge.from == edge.to) continue;
+    if (edge.from >= 1 && edge.from < num_base) slot_of(edge.from);
+    if (edge.to >= 1 && edge.to < num_base) slot_of(edge.to);
+  }
+  const int t = static_cast<int>(touched.size());
+
+  // W = ΔA_TT, B_T (T × new) and C (new × new; new node num_base + k -> k).
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(t, t);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(t, num_new);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(num_new, num_new);
+  auto is_old = [&](int node) { return node >= 1 && node < num_base; };
+  auto is_new = [&](int node) { return node >= num_base; };
+  for (const WeightedEdge& edge : extension.edges) {
+    if (edge.from == edge.to) continue;
+    const double weight = edge.weight;
+    for (int end = 0; end < 2; ++end) {  // each end's diagonal
+      const int node = end == 0 ? edge.from : edge.to;
+      if (is_old(node)) {
+        const int s = slot.at(node - 1);
+        w(s, s) += weight;
+      } else if (is_new(node)) {
+        c(node - num_base, node - num_base) += weight;
+      }  // node 0: not in the reduced system
+    }
+    const int u = edge.from, v = edge.to;
+    if (is_old(u) && is_old(v)) {
+      const int su = slot.at(u - 1), sv = slot.at(v - 1);
+      w(su, sv) -= weight;
+      w(sv, su) -= weight;
+    } else if (is_new(u) && is_new(v)) {
+      c(u - num_base, v - num_base) -= weight;
+      c(v - num_base, u - num_base) -= weight;
+    } else if (is_old(u) && is_new(v)) {
+      b(slot.at(u - 1), v - num_base) -= weight;
+    } else if (is_new(u) && is_old(v)) {
+      b(slot.at(v - 1), u - num_base) -= weight;
+    }
+  }
+
+  double log_det = m.base_log_det;
+  if (t > 0) {
+    // S = (A⁻¹)_TT from the cached forward solves.
+    std::vector<const Impl::SparseVector*> y(t);
+    for (int s = 0; s < t; ++s) y[s] = &m.Solve(touched[s]);
+    const Eigen::MatrixXd s_matrix = m.InverseBlock(y);
+    const Eigen::LLT<Eigen::MatrixXd> s_llt(s_matrix);
+    if (s_llt.info() != Eigen::Success) Fail("(A⁻¹)_TT not positive definite");
+    const Eigen::MatrixXd r = s_llt.matrixL();
+    const Eigen::MatrixXd q =
+        Eigen::MatrixXd::Identity(t, t) + r.transpose() * w * r;
+    const Eigen::LLT<Eigen::MatrixXd> q_llt(q);
+    if (q_llt.info() != Eigen::Success) Fail("I + RᵀWR not positive definite");
+    log_det += 2.0 * q_llt.matrixLLT().diagonal().array().log().sum();
+    if (num_new > 0) {
+      // C − B_Tᵀ S' B_T with S' = R Q⁻¹ Rᵀ: form Rᵀ B_T once.
+      const Eigen::MatrixXd rt_b = r.transpose() * b;
+      c -= rt_b.transpose() * q_llt.solve(rt_b);
+    }
+  }
+  if (num_new > 0) {
+    const Eigen::LLT<Eigen::MatrixXd> c_llt(c);
+    // A new node without a path to the base graph: no spanning tree.
+    if (c_llt.info() != Eigen::Success) return -std::numeric_limits<double>::infinity();
+    log_det += 2.0 * c_llt.matrixLLT().diagonal().array().log().sum();
+  }
+  return log_det;
+}
+
+}  // namespace aslam

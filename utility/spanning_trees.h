@@ -16,8 +16,9 @@
 
 namespace aslam {
 
-// Modern D-optimality of a 3x3 information matrix: exp(mean of log λ_k) over
-// the eigenvalues λ_k > 1e-8 (0 when there is none).
+// Modern D-optimality of a 3x3 information matrix: exp((1/3)·Σ log λ_k) over
+// the eigenvalues λ_k > 1e-8, as DESIGN §5 and the AGS authors' code (skipped
+// eigenvalues still count in the 1/3); 0 when there is none.
 double DOptimality(const Eigen::Matrix3d& information);
 // Min eigenvalue (E-optimality), for the metrics.
 double EOptimality(const Eigen::Matrix3d& information);
