@@ -1,1 +1,359 @@
-// placeholder: being written
+#include "frontier/frontier_extractor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <queue>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+
+namespace aslam {
+namespace {
+
+// Guards ceil() against lengths that are whole multiples up to rounding (50 * 0.05 / 2.5).
+constexpr double kRoundingSlack = 1e-9;
+
+template <typename T>
+[[noreturn]] void ThrowBadOption(const std::string& name, T value, const std::string& why) {
+  std::ostringstream message;
+  message << "FrontierOptions." << name << " = " << value << ": " << why;
+  throw std::invalid_argument(message.str());
+}
+
+void CheckNonNegative(const std::string& name, double value) {
+  if (!(value >= 0.0) || !std::isfinite(value))
+    ThrowBadOption(name, value, "must be finite and >= 0");
+}
+
+bool IsKnownFree(int8_t value, int free_threshold) { return value >= 0 && value <= free_threshold; }
+
+// Cuts one 8-connected cluster into pieces of equal arc length (see header, step 3).
+// `origin` is the cluster's bounding box corner, `box_width`/`box_height` its size.
+std::vector<std::vector<CellIndex>> SplitCluster(const std::vector<CellIndex>& cells,
+                                                 CellIndex origin, int box_width, int box_height,
+                                                 double resolution_m, double max_segment_length_m) {
+  const int n = static_cast<int>(cells.size());
+  std::vector<int> local(static_cast<std::size_t>(box_width) * box_height, -1);
+  auto local_index = [&](int col, int row) -> int {
+    const int c = col - origin.col;
+    const int r = row - origin.row;
+    if (c < 0 || r < 0 || c >= box_width || r >= box_height) return -1;
+    return local[static_cast<std::size_t>(r) * box_width + c];
+  };
+  for (int i = 0; i < n; ++i) {
+    local[static_cast<std::size_t>(cells[i].row - origin.row) * box_width + cells[i].col -
+          origin.col] = i;
+  }
+
+  // Geodesic distances in cells from `source`, 8-connected inside the cluster.
+  std::vector<double> distance(n);
+  auto geodesic_from = [&](int source) {
+    std::fill(distance.begin(), distance.end(), std::numeric_limits<double>::infinity());
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    distance[source] = 0.0;
+    queue.push({0.0, source});
+    while (!queue.empty()) {
+      const auto [d, u] = queue.top();
+      queue.pop();
+      if (d > distance[u]) continue;
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          if (dr == 0 && dc == 0) continue;
+          const int v = local_index(cells[u].col + dc, cells[u].row + dr);
+          if (v < 0) continue;
+          const double candidate = d + (dr != 0 && dc != 0 ? M_SQRT2 : 1.0);
+          if (candidate < distance[v]) {
+            distance[v] = candidate;
+            queue.push({candidate, v});
+          }
+        }
+      }
+    }
+    return static_cast<int>(std::max_element(distance.begin(), distance.end()) - distance.begin());
+  };
+
+  // Double sweep: the cell farthest from any cell is an end of the cluster.
+  const int end = geodesic_from(0);
+  const int far_end = geodesic_from(end);
+  const double length_cells = distance[far_end] + 1.0;
+  const int pieces =
+      std::max(1, static_cast<int>(std::ceil(length_cells * resolution_m / max_segment_length_m -
+                                             kRoundingSlack)));
+  std::vector<std::vector<CellIndex>> segments(pieces);
+  const double piece_cells = length_cells / pieces;
+  for (int i = 0; i < n; ++i) {
+    // Position of the cell's centre along the cluster, 0..length_cells.
+    const int bin = std::min(pieces - 1, static_cast<int>((distance[i] + 0.5) / piece_cells));
+    segments[bin].push_back(cells[i]);
+  }
+  segments.erase(std::remove_if(segments.begin(), segments.end(),
+                                [](const std::vector<CellIndex>& s) { return s.empty(); }),
+                 segments.end());
+  return segments;
+}
+
+// True when every cell on the Bresenham line a..b (both included) is known free.
+bool ClearLine(const OccupancyGrid& map, CellIndex a, CellIndex b, int free_threshold) {
+  const int dc = std::abs(b.col - a.col), sc = a.col < b.col ? 1 : -1;
+  const int dr = -std::abs(b.row - a.row), sr = a.row < b.row ? 1 : -1;
+  int error = dc + dr;
+  CellIndex cell = a;
+  while (true) {
+    if (!IsKnownFree(map.at(cell), free_threshold)) return false;
+    if (cell == b) return true;
+    const int twice = 2 * error;
+    if (twice >= dr) {
+      error += dr;
+      cell.col += sc;
+    }
+    if (twice <= dc) {
+      error += dc;
+      cell.row += sr;
+    }
+  }
+}
+
+// The reachable cell nearest the centroid among the segment's cells and the
+// known-free cells within radius of the centroid that see the segment's cell
+// nearest the centroid over known free space (so a target is never across a
+// wall from its frontier); nullopt when there is none.
+std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCells& reachability,
+                                    const std::vector<CellIndex>& segment, Point2d centroid_m,
+                                    const FrontierOptions& options) {
+  auto distance2 = [&](CellIndex cell) {
+    const Point2d p = map.CellCenter(cell);
+    return (p.x_m - centroid_m.x_m) * (p.x_m - centroid_m.x_m) +
+           (p.y_m - centroid_m.y_m) * (p.y_m - centroid_m.y_m);
+  };
+  // Strict comparisons: the first of equally near cells wins (deterministic).
+  CellIndex anchor = segment.front();
+  double anchor_d2 = distance2(anchor);
+  std::optional<CellIndex> best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (const CellIndex& cell : segment) {
+    const double d2 = distance2(cell);
+    if (d2 < anchor_d2) {
+      anchor = cell;
+      anchor_d2 = d2;
+    }
+    if (d2 < best_d2 && reachability.Reachable(cell)) {
+      best = cell;
+      best_d2 = d2;
+    }
+  }
+
+  const double radius_m = options.target_radius_m;
+  const CellIndex centre = map.WorldToCell(centroid_m);
+  const int reach = static_cast<int>(std::ceil(radius_m / map.resolution_m())) + 1;
+  for (int row = std::max(0, centre.row - reach);
+       row <= std::min(map.height_cells() - 1, centre.row + reach); ++row) {
+    for (int col = std::max(0, centre.col - reach);
+         col <= std::min(map.width_cells() - 1, centre.col + reach); ++col) {
+      const CellIndex cell{col, row};
+      const double d2 = distance2(cell);
+      if (d2 >= best_d2 || std::sqrt(d2) > radius_m) continue;
+      if (!IsKnownFree(map.at(cell), options.free_threshold) || !reachability.Reachable(cell) ||
+          !ClearLine(map, cell, anchor, options.free_threshold)) {
+        continue;
+      }
+      best = cell;
+      best_d2 = d2;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+void ReachableCells::Compute(const Costmap& costmap, CellIndex start,
+                             const GlobalPlannerOptions& options) {
+  costmap_ = &costmap;
+  use_tree_ = false;
+  start_label_ = 0;
+  if (!costmap.Contains(start)) return;  // nothing is reachable from off the map
+  if (!costmap.Traversable(start)) {
+    GlobalPlanner(options).Search(costmap, start, {}, &tree_);
+    use_tree_ = true;
+    return;
+  }
+  const int width = costmap.width_cells();
+  const int height = costmap.height_cells();
+  traversable_.create(height, width, CV_8U);
+  const std::vector<uint8_t>& costs = costmap.costs();
+  for (int row = 0; row < height; ++row) {
+    uint8_t* out = traversable_.ptr<uint8_t>(row);
+    const uint8_t* in = costs.data() + static_cast<std::size_t>(row) * width;
+    for (int col = 0; col < width; ++col) out[col] = in[col] < Costmap::kInscribed ? 1 : 0;
+  }
+  cv::connectedComponents(traversable_, labels_, 4, CV_32S);
+  start_label_ = labels_.at<int32_t>(start.row, start.col);
+}
+
+bool ReachableCells::Reachable(CellIndex cell) const {
+  if (costmap_ == nullptr || !costmap_->Traversable(cell)) return false;
+  if (use_tree_) return tree_.Reachable(cell);
+  return start_label_ > 0 && labels_.at<int32_t>(cell.row, cell.col) == start_label_;
+}
+
+void FrontierOptions::Validate() const {
+  if (free_threshold < 0 || free_threshold >= costmap.occupied_threshold) {
+    ThrowBadOption("free_threshold", free_threshold,
+                   "must be in 0..costmap.occupied_threshold - 1 (" +
+                       std::to_string(costmap.occupied_threshold - 1) + ")");
+  }
+  CheckNonNegative("min_size_m", min_size_m);
+  if (!(max_segment_length_m > 0.0) || !std::isfinite(max_segment_length_m)) {
+    ThrowBadOption("max_segment_length_m", max_segment_length_m, "must be finite and > 0");
+  }
+  CheckNonNegative("target_radius_m", target_radius_m);
+  CheckNonNegative("match_distance_m", match_distance_m);
+  costmap.Validate();
+  global_planner.Validate();
+}
+
+std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
+                                    const FrontierOptions& options,
+                                    FrontierExtractionStats* stats, FrontierScratch* scratch) {
+  FrontierExtractionStats local_stats;
+  FrontierExtractionStats& s = stats ? *stats : local_stats;
+  FrontierScratch local_scratch;
+  FrontierScratch& m = scratch ? *scratch : local_scratch;
+  s = FrontierExtractionStats{};
+  std::vector<Frontier> frontiers;
+  if (map.empty()) return frontiers;
+
+  const int width = map.width_cells();
+  const int height = map.height_cells();
+  const double resolution_m = map.resolution_m();
+
+  // Step 1: known-free cells with an unknown 8-neighbour (dilating the unknown mask).
+  m.unknown.create(height, width, CV_8U);
+  m.free.create(height, width, CV_8U);
+  const std::vector<int8_t>& values = map.cells();
+  for (int row = 0; row < height; ++row) {
+    const int8_t* in = values.data() + static_cast<std::size_t>(row) * width;
+    uint8_t* u = m.unknown.ptr<uint8_t>(row);
+    uint8_t* f = m.free.ptr<uint8_t>(row);
+    for (int col = 0; col < width; ++col) {
+      u[col] = in[col] == OccupancyGrid::kUnknown ? 1 : 0;
+      f[col] = IsKnownFree(in[col], options.free_threshold) ? 1 : 0;
+    }
+  }
+  cv::dilate(m.unknown, m.near_unknown, cv::Mat::ones(3, 3, CV_8U), cv::Point(-1, -1), 1,
+             cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::bitwise_and(m.free, m.near_unknown, m.frontier);
+  s.frontier_cells = cv::countNonZero(m.frontier);
+  if (s.frontier_cells == 0) return frontiers;
+
+  // Step 2: clusters, the small ones dropped.
+  const int label_count =
+      cv::connectedComponentsWithStats(m.frontier, m.labels, m.stats, m.centroids, 8, CV_32S);
+  const cv::Mat& cluster_stats = m.stats;
+  s.clusters = label_count - 1;
+  const int min_cells =
+      std::max(1, static_cast<int>(std::ceil(options.min_size_m / resolution_m - kRoundingSlack)));
+
+  // Step 3: segments of bounded length; each cluster's cells gathered from its bounding box.
+  std::vector<std::vector<CellIndex>> segments;
+  std::vector<CellIndex> cluster;
+  for (int label = 1; label < label_count; ++label) {
+    if (cluster_stats.at<int32_t>(label, cv::CC_STAT_AREA) < min_cells) {
+      ++s.clusters_too_small;
+      continue;
+    }
+    const CellIndex origin{cluster_stats.at<int32_t>(label, cv::CC_STAT_LEFT),
+                           cluster_stats.at<int32_t>(label, cv::CC_STAT_TOP)};
+    const int box_width = cluster_stats.at<int32_t>(label, cv::CC_STAT_WIDTH);
+    const int box_height = cluster_stats.at<int32_t>(label, cv::CC_STAT_HEIGHT);
+    cluster.clear();
+    for (int row = origin.row; row < origin.row + box_height; ++row) {
+      const int32_t* in = m.labels.ptr<int32_t>(row);
+      for (int col = origin.col; col < origin.col + box_width; ++col) {
+        if (in[col] == label) cluster.push_back({col, row});
+      }
+    }
+    for (auto& segment : SplitCluster(cluster, origin, box_width, box_height, resolution_m,
+                                      options.max_segment_length_m)) {
+      segments.push_back(std::move(segment));
+    }
+  }
+  s.segments = static_cast<int>(segments.size());
+  if (segments.empty()) return frontiers;
+
+  // Step 4: targets in the navigator's costmap, reachable from the robot.
+  const Costmap costmap(map, options.costmap);
+  m.reachable.Compute(costmap, map.WorldToCell(robot_m), options.global_planner);
+  const ReachableCells& reachability = m.reachable;
+  s.used_planner_search = reachability.used_planner_search();
+  for (std::vector<CellIndex>& segment : segments) {
+    Frontier frontier;
+    frontier.id = -1;
+    frontier.points_m.reserve(segment.size());
+    double sum_x = 0.0, sum_y = 0.0;
+    for (const CellIndex& cell : segment) {
+      const Point2d p = map.CellCenter(cell);
+      frontier.points_m.push_back(p);
+      sum_x += p.x_m;
+      sum_y += p.y_m;
+    }
+    const double n = static_cast<double>(segment.size());
+    frontier.centroid_m = {sum_x / n, sum_y / n};
+    const std::optional<CellIndex> target =
+        FindTarget(map, reachability, segment, frontier.centroid_m, options);
+    if (!target) {
+      ++s.segments_unreachable;
+      continue;
+    }
+    frontier.target_m = map.CellCenter(*target);
+    frontier.cells = std::move(segment);
+    frontiers.push_back(std::move(frontier));
+  }
+  return frontiers;
+}
+
+void AssignFrontierIds(const std::vector<Frontier>& previous, double match_distance_m,
+                       std::vector<Frontier>* frontiers, int* next_id) {
+  std::vector<Frontier>& current = *frontiers;
+  // Every close pair, closest first (ties by index: deterministic).
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  for (std::size_t i = 0; i < current.size(); ++i) {
+    for (std::size_t j = 0; j < previous.size(); ++j) {
+      const double d = std::hypot(current[i].centroid_m.x_m - previous[j].centroid_m.x_m,
+                                  current[i].centroid_m.y_m - previous[j].centroid_m.y_m);
+      if (d <= match_distance_m) pairs.emplace_back(d, i, j);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<bool> current_taken(current.size(), false);
+  std::vector<bool> previous_taken(previous.size(), false);
+  for (const auto& [d, i, j] : pairs) {
+    if (current_taken[i] || previous_taken[j]) continue;
+    current_taken[i] = previous_taken[j] = true;
+    current[i].id = previous[j].id;
+  }
+  for (std::size_t i = 0; i < current.size(); ++i) {
+    if (!current_taken[i]) current[i].id = (*next_id)++;
+  }
+  std::sort(current.begin(), current.end(),
+            [](const Frontier& a, const Frontier& b) { return a.id < b.id; });
+}
+
+FrontierExtractor::FrontierExtractor(FrontierOptions options) : options_(std::move(options)) {
+  options_.Validate();
+}
+
+const std::vector<Frontier>& FrontierExtractor::Extract(const OccupancyGrid& map, Point2d robot_m) {
+  std::vector<Frontier> found = FindFrontiers(map, robot_m, options_, &stats_, &scratch_);
+  AssignFrontierIds(frontiers_, options_.match_distance_m, &found, &next_id_);
+  frontiers_ = std::move(found);
+  return frontiers_;
+}
+
+}  // namespace aslam

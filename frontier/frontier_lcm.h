@@ -11,7 +11,8 @@ namespace aslam {
 
 // Cells are not carried (points_m are); FromLcm leaves `cells` empty.
 frontier_list_t ToLcm(const FrontierList& list);
-// Rejects counts that disagree with the arrays and non-finite coordinates.
+// Rejects counts that disagree with the arrays (size_cells included),
+// non-finite coordinates, and negative or repeated ids.
 std::optional<FrontierList> FromLcm(const frontier_list_t& msg);
 
 }  // namespace aslam

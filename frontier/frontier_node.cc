@@ -1,1 +1,59 @@
-// placeholder: being written
+#include "frontier/frontier_node.h"
+
+#include <utility>
+
+#include "aslam/frontier_list_t.hpp"
+#include "common/channels.h"
+#include "common/types_lcm.h"
+#include "frontier/frontier_lcm.h"
+
+namespace aslam {
+namespace {
+
+constexpr const char* kMapFrame = "map";
+
+}  // namespace
+
+FrontierNode::FrontierNode(lcm::LCM& lcm, FrontierOptions options)
+    : lcm_(lcm), extractor_(std::move(options)), subscriptions_(lcm) {
+  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap,
+                                       [this](const occupancy_grid_t& m) { return OnMap(m); });
+  subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
+}
+
+bool FrontierNode::OnMap(const occupancy_grid_t& msg) {
+  if (msg.frame != kMapFrame) return false;
+  std::optional<OccupancyGrid> map = FromLcm(msg);
+  if (!map) return false;
+  // "New" = different: a restarted SLAM counts its revisions from the start again.
+  if (extracted_revision_ && *extracted_revision_ == msg.revision) return true;
+  map_ = std::move(map);
+  map_utime_ = msg.utime;
+  map_revision_ = msg.revision;
+  map_pending_ = true;
+  if (pose_) ExtractAndPublish();
+  return true;
+}
+
+bool FrontierNode::OnPose(const pose_t& msg) {
+  if (msg.frame != kMapFrame) return false;
+  const std::optional<StampedPose> pose = FromLcm(msg);
+  if (!pose) return false;
+  pose_ = pose;
+  if (map_pending_) ExtractAndPublish();
+  return true;
+}
+
+void FrontierNode::ExtractAndPublish() {
+  map_pending_ = false;
+  extracted_revision_ = map_revision_;
+  FrontierList list;
+  list.utime = map_utime_;
+  list.map_revision = map_revision_;
+  list.frontiers = extractor_.Extract(*map_, {pose_->pose.x_m, pose_->pose.y_m});
+  const frontier_list_t msg = ToLcm(list);
+  lcm_.publish(channels::kFrontiers, &msg);
+  ++lists_published_;
+}
+
+}  // namespace aslam
