@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "common/config_testing.h"
 #include "navigation/nav_config.h"
 
 namespace aslam {
@@ -13,16 +14,9 @@ namespace {
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const std::string kShippedConfig = std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
+const std::string kShippedConfig = ShippedConfigPath();
 
-std::string ErrorOf(const std::string& yaml) {
-  try {
-    LoadFrontierOptions(ConfigReader::FromString(yaml, "frontier", "test.yaml"));
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string ErrorOf(const std::string& yaml) { return ConfigErrorOf(LoadFrontierOptions, yaml, "frontier"); }
 
 TEST(FrontierConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   const FrontierOptions shipped = LoadFrontierOptionsFromFile(kShippedConfig);

@@ -5,22 +5,17 @@
 
 #include <string>
 
+#include "common/config_testing.h"
+
 namespace aslam {
 namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const std::string kShippedConfig = std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
+const std::string kShippedConfig = ShippedConfigPath();
 
-std::string ErrorOf(const std::string& yaml) {
-  try {
-    LoadSlamConfig(ConfigReader::FromString(yaml, "slam", "test.yaml"));
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string ErrorOf(const std::string& yaml) { return ConfigErrorOf(LoadSlamConfig, yaml, "slam"); }
 
 // Every field, exactly: the shipped file must spell the built-in defaults.
 void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
