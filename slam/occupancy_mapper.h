@@ -24,7 +24,7 @@ struct OccupancyMapperOptions {
   double growth_margin_m = 2.0;   // extra border added whenever the grid grows
   // Rendering: p <= free_threshold reads 0 (free), p >= occupied_threshold 100
   // (occupied), anything between round(100 p), so consumers see clean free space.
-  double free_threshold = 0.25;
+  double free_threshold = 0.45;  // one miss (p = 0.40) already reads free: a first scan shows free space
   double occupied_threshold = 0.65;
 };
 

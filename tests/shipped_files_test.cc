@@ -11,8 +11,10 @@
 #include "drivers/scripted_drive.h"
 #include "drivers/sim_config.h"
 #include "drivers/simulator.h"
+#include "frontier/frontier_config.h"
 #include "navigation/nav_config.h"
 #include "slam/slam_config.h"
+#include "utility/utility_config.h"
 #include "worlds/worldgen.h"
 
 namespace aslam {
@@ -38,6 +40,8 @@ TEST(ShippedFiles, EveryConfigLoadsEverySection) {
     EXPECT_NO_THROW(LoadSimulatorOptions(ConfigReader::FromFile(file.string(), "sim")));
     EXPECT_NO_THROW(LoadSlamConfig(ConfigReader::FromFile(file.string(), "slam")));
     EXPECT_NO_THROW(LoadNavOptions(ConfigReader::FromFile(file.string(), "nav")));
+    EXPECT_NO_THROW(LoadFrontierOptions(ConfigReader::FromFile(file.string(), "frontier")));
+    EXPECT_NO_THROW(LoadUtilityOptions(ConfigReader::FromFile(file.string(), "utility")));
   }
 }
 

@@ -1,1 +1,272 @@
-// placeholder: being written
+#include "utility/goal_selector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+namespace aslam {
+namespace {
+
+constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
+constexpr double kTieRelative = 1e-9;
+
+[[noreturn]] void ThrowBadOption(const std::string& name, double value, const std::string& why) {
+  std::ostringstream out;
+  out << "GoalSelectorOptions." << name << " = " << value << ": " << why;
+  throw std::invalid_argument(out.str());
+}
+
+double CellDistance(CellIndex a, CellIndex b) {
+  return std::hypot(static_cast<double>(a.col - b.col), static_cast<double>(a.row - b.row));
+}
+
+// Traversable cells within `radius_cells` of `cell` (the snap candidates of an unenterable target).
+std::vector<CellIndex> SnapCandidates(const Costmap& costmap, CellIndex cell, double radius_cells) {
+  std::vector<CellIndex> candidates;
+  const int reach = static_cast<int>(std::floor(radius_cells));
+  for (int dr = -reach; dr <= reach; ++dr) {
+    for (int dc = -reach; dc <= reach; ++dc) {
+      const CellIndex c{cell.col + dc, cell.row + dr};
+      if (dc * dc + dr * dr > radius_cells * radius_cells || !costmap.Contains(c)) continue;
+      if (costmap.Traversable(c)) candidates.push_back(c);
+    }
+  }
+  return candidates;
+}
+
+// The cell the path goes to: the target itself when reachable, else the
+// reachable snap candidate nearest to it (ties: the cheaper one).
+std::optional<CellIndex> GoalCell(const ShortestPathTree& tree, const Costmap& costmap,
+                                  CellIndex target, double snap_radius_cells) {
+  if (tree.Reachable(target)) return target;
+  std::optional<CellIndex> best;
+  double best_distance = 0.0;
+  for (const CellIndex& c : SnapCandidates(costmap, target, snap_radius_cells)) {
+    if (!tree.Reachable(c)) continue;
+    const double distance = CellDistance(c, target);
+    if (!best || distance < best_distance ||
+        (distance == best_distance && tree.CostTo(c) < tree.CostTo(*best))) {
+      best = c;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+bool Blacklisted(Point2d target_m, const std::vector<Point2d>& blacklist_m, double radius_m) {
+  for (const Point2d& p : blacklist_m) {
+    if (std::hypot(target_m.x_m - p.x_m, target_m.y_m - p.y_m) <= radius_m) return true;
+  }
+  return false;
+}
+
+// a beats b: higher total; near-equal totals go to the shorter path (then the earlier index).
+bool Better(const FrontierScore& a, const FrontierScore& b) {
+  const double tolerance = kTieRelative * std::max(1.0, std::max(std::abs(a.total), std::abs(b.total)));
+  if (std::abs(a.total - b.total) > tolerance) return a.total > b.total;
+  return a.path_length_m < b.path_length_m;
+}
+
+}  // namespace
+
+const char* UtilityMethodName(UtilityMethod method) {
+  switch (method) {
+    case UtilityMethod::kFd:
+      return "fd";
+    case UtilityMethod::kAgs:
+      return "ags";
+    case UtilityMethod::kOurs:
+      return "ours";
+  }
+  return "?";
+}
+
+std::optional<UtilityMethod> ParseUtilityMethod(const std::string& name) {
+  if (name == "fd") return UtilityMethod::kFd;
+  if (name == "ags") return UtilityMethod::kAgs;
+  if (name == "ours") return UtilityMethod::kOurs;
+  return std::nullopt;
+}
+
+const char* EligibilityName(Eligibility eligibility) {
+  switch (eligibility) {
+    case Eligibility::kEligible:
+      return "eligible";
+    case Eligibility::kTooClose:
+      return "too close";
+    case Eligibility::kUnreachable:
+      return "unreachable";
+    case Eligibility::kBlacklisted:
+      return "blacklisted";
+    case Eligibility::kTooFar:
+      return "too far";
+  }
+  return "?";
+}
+
+void GoalSelectorOptions::Validate() const {
+  path_entropy.Validate();
+  if (!(min_distance_m >= 0.0) || !std::isfinite(min_distance_m)) {
+    ThrowBadOption("min_distance_m", min_distance_m, "must be finite and >= 0");
+  }
+  if (!(max_path_length_m >= 0.0) || !std::isfinite(max_path_length_m)) {
+    ThrowBadOption("max_path_length_m", max_path_length_m, "must be finite and >= 0 (0: no limit)");
+  }
+  if (!(blacklist_radius_m >= 0.0) || !std::isfinite(blacklist_radius_m)) {
+    ThrowBadOption("blacklist_radius_m", blacklist_radius_m, "must be finite and >= 0");
+  }
+  if (!(goal_snap_m >= 0.0) || !std::isfinite(goal_snap_m)) {
+    ThrowBadOption("goal_snap_m", goal_snap_m, "must be finite and >= 0");
+  }
+  costmap.Validate();
+  global_planner.Validate();
+  ValidateHallucinationOptions(hallucination);
+}
+
+bool IsConnected(const WeightedGraph& graph) {
+  if (graph.num_nodes <= 0) return false;
+  // Union-find over the edges that carry information.
+  std::vector<int> parent(graph.num_nodes);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&parent](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  int components = graph.num_nodes;
+  for (const WeightedEdge& e : graph.edges) {
+    if (!(e.weight > 0.0) || !std::isfinite(e.weight)) continue;
+    if (e.from < 0 || e.to < 0 || e.from >= graph.num_nodes || e.to >= graph.num_nodes) continue;
+    const int a = find(e.from);
+    const int b = find(e.to);
+    if (a != b) {
+      parent[a] = b;
+      --components;
+    }
+  }
+  return components == 1;
+}
+
+GoalSelector::GoalSelector(GoalSelectorOptions options)
+    : options_(std::move(options)), planner_(options_.global_planner) {
+  options_.Validate();
+}
+
+GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
+                                  const PoseGraph& graph, const std::vector<Frontier>& frontiers,
+                                  const std::vector<Point2d>& blacklist_m) {
+  GoalDecision decision;
+  decision.scores.resize(frontiers.size());
+  const UtilityMethod method = options_.method;
+  const Costmap costmap(map, options_.costmap);
+  const CellIndex robot_cell = map.WorldToCell({robot.x_m, robot.y_m});
+  const double snap_radius_cells = options_.goal_snap_m / map.resolution_m();
+
+  // One search from the robot serves every frontier: wait for every target
+  // (or, for one the planner cannot enter, for its snap candidates).
+  std::vector<CellIndex> target_cells(frontiers.size());
+  std::vector<CellIndex> wait_for;
+  for (std::size_t i = 0; i < frontiers.size(); ++i) {
+    target_cells[i] = map.WorldToCell(frontiers[i].target_m);
+    if (costmap.Contains(target_cells[i]) && costmap.Traversable(target_cells[i])) {
+      wait_for.push_back(target_cells[i]);
+    } else {
+      const auto candidates = SnapCandidates(costmap, target_cells[i], snap_radius_cells);
+      wait_for.insert(wait_for.end(), candidates.begin(), candidates.end());
+    }
+  }
+  if (!frontiers.empty()) planner_.Search(costmap, robot_cell, wait_for, &tree_);
+
+  // U1 base: the graph with D-optimality weights, factorized once.
+  WeightedGraph base;
+  std::unique_ptr<IncrementalLogDet> incremental;
+  bool u1_available = false;
+  if (MethodUsesGraph(method)) {
+    base = ToWeightedGraph(graph);
+    decision.graph_nodes = base.num_nodes;
+    if (base.num_nodes == 0) {
+      decision.note = "empty pose graph: U1 not computed";
+    } else if (!IsConnected(base)) {
+      decision.note = "pose graph not connected: U1 not computed";
+    } else {
+      u1_available = true;
+      // A 1-node base has an empty reduced Laplacian: nothing to factorize.
+      if (base.num_nodes >= 2 && !frontiers.empty()) {
+        incremental = std::make_unique<IncrementalLogDet>(base);
+      }
+    }
+  }
+
+  for (std::size_t i = 0; i < frontiers.size(); ++i) {
+    const Frontier& frontier = frontiers[i];
+    FrontierScore& s = decision.scores[i];
+    s.frontier_id = frontier.id;
+    s.target_m = frontier.target_m;
+    s.distance_m = CellDistance(robot_cell, target_cells[i]) * map.resolution_m();
+
+    std::optional<GlobalPath> path;
+    if (const auto goal_cell = GoalCell(tree_, costmap, target_cells[i], snap_radius_cells)) {
+      path = tree_.PathTo(*goal_cell);
+    }
+    if (path) s.path_length_m = path->length_m;
+
+    if (s.distance_m < options_.min_distance_m) {
+      s.eligibility = Eligibility::kTooClose;
+    } else if (!path) {
+      s.eligibility = Eligibility::kUnreachable;
+    } else if (Blacklisted(frontier.target_m, blacklist_m, options_.blacklist_radius_m)) {
+      s.eligibility = Eligibility::kBlacklisted;
+    } else if (options_.max_path_length_m > 0.0 && s.path_length_m > options_.max_path_length_m) {
+      s.eligibility = Eligibility::kTooFar;
+    }
+
+    // Terms are computed for ineligible frontiers too (where a path exists), so
+    // that UTILITY_SCORES shows what they would have scored.
+    if (u1_available && path) {
+      const GraphExtension extension = HallucinatePath(graph, path->points_m, map, options_.hallucination);
+      s.hallucinated_nodes = extension.num_new_nodes;
+      s.hallucinated_edges = static_cast<int>(extension.edges.size());
+      const double log_det = incremental ? incremental->LogDet(extension)
+                                         : LogDetReducedLaplacianSparse(base, extension);
+      s.u1 = U1FromLogDet(log_det, base.num_nodes + extension.num_new_nodes);
+    }
+    if (method == UtilityMethod::kOurs) {
+      const U2Terms u2 = ComputeU2(map, robot_cell, target_cells[i], s.u1, options_.path_entropy);
+      s.ray_cells = u2.ray_cells;
+      s.path_entropy_bits = u2.path_entropy_bits;
+      s.mean_entropy_bits = u2.mean_entropy_bits;
+      s.gamma = u2.gamma;
+      s.beta = u2.beta;
+      s.rho = u2.rho;
+      s.u2 = u2.u2;
+    }
+
+    if (!s.eligible()) {
+      s.total = kMinusInf;
+      continue;
+    }
+    switch (method) {
+      case UtilityMethod::kFd:
+        s.total = -s.path_length_m;
+        break;
+      case UtilityMethod::kAgs:
+        s.total = s.u1;
+        break;
+      case UtilityMethod::kOurs:
+        s.total = s.u1 + s.u2;
+        break;
+    }
+    ++decision.num_eligible;
+    if (decision.chosen_index < 0 || Better(s, decision.scores[decision.chosen_index])) {
+      decision.chosen_index = static_cast<int>(i);
+    }
+  }
+  if (decision.has_goal()) decision.scores[decision.chosen_index].chosen = true;
+  if (incremental) decision.cached_solves = incremental->cached_solves();
+  return decision;
+}
+
+}  // namespace aslam

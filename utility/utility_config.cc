@@ -1,1 +1,90 @@
-// placeholder: being written
+#include "utility/utility_config.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace aslam {
+namespace {
+
+void LoadCostmap(const ConfigReader& c, CostmapOptions* o) {
+  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
+  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
+  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
+  c.Read("unknown_passable", &o->unknown_passable);
+  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
+}
+
+void LoadGlobalPlanner(const ConfigReader& c, GlobalPlannerOptions* o) {
+  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
+  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
+}
+
+void LoadHallucination(const ConfigReader& c, HallucinationOptions* o) {
+  c.ReadInRange("path_cells_per_node", &o->path_cells_per_node, 1, 100000);
+  c.ReadPositive("odometry_sigma_xx", &o->odometry_sigma_xx);
+  c.Read("odometry_sigma_xy", &o->odometry_sigma_xy);
+  c.ReadPositive("odometry_sigma_yy", &o->odometry_sigma_yy);
+  c.ReadPositive("odometry_sigma_yawyaw", &o->odometry_sigma_yawyaw);
+  // Σ_odo must be invertible (positive definite) for I_odo = ½ Σ⁻¹.
+  if (o->odometry_sigma_xy * o->odometry_sigma_xy >= o->odometry_sigma_xx * o->odometry_sigma_yy) {
+    c.Fail("odometry_sigma_xy", "needs xy^2 < xx * yy (covariance positive definite)");
+  }
+  c.ReadInRange("unknown_radius_m", &o->unknown_radius_m, 0.0, 100.0);
+  c.ReadInRange("loop_closure_radius_m", &o->loop_closure_radius_m, 0.0, 100.0);
+  c.ReadInRange("max_loop_closures_per_node", &o->max_loop_closures_per_node, 0, 1000);
+  c.ReadInRange("exclude_newest_nodes", &o->exclude_newest_nodes, 0, 1000000);
+  c.ReadInRange("occupied_fraction_threshold", &o->occupied_fraction_threshold, 0.0, 1.0);
+  c.ReadInRange("loop_closure_scale", &o->loop_closure_scale, 0.0, 1e6);
+}
+
+}  // namespace
+
+UtilityOptions LoadUtilityOptions(const ConfigReader& u) {
+  UtilityOptions options;
+  GoalSelectorOptions& s = options.selector;
+
+  std::string method = UtilityMethodName(s.method);
+  u.Read("method", &method);
+  const auto parsed = ParseUtilityMethod(method);
+  if (!parsed) u.Fail("method", "expected fd, ags or ours");
+  s.method = *parsed;
+
+  u.ReadInRange("lambda", &s.path_entropy.lambda, 0.0, 1000.0);
+  std::string unit = "m";
+  u.Read("distance_unit", &unit);
+  if (unit == "m") {
+    s.path_entropy.distance_unit = DistanceUnit::kMeters;
+  } else if (unit == "cells") {
+    s.path_entropy.distance_unit = DistanceUnit::kCells;
+  } else {
+    u.Fail("distance_unit", "expected m or cells");
+  }
+  u.ReadInRange("min_distance_m", &s.min_distance_m, 0.0, 100.0);
+  u.ReadInRange("max_path_length_m", &s.max_path_length_m, 0.0, 1e6);
+  u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
+  u.ReadInRange("goal_snap_m", &s.goal_snap_m, 0.0, 10.0);
+  u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
+  u.ReadInRange("robot_radius_m", &s.costmap.robot_radius_m, 0.01, 5.0);
+
+  LoadCostmap(u.Section("costmap"), &s.costmap);
+  LoadGlobalPlanner(u.Section("global_planner"), &s.global_planner);
+  LoadHallucination(u.Section("hallucination"), &s.hallucination);
+  u.CheckAllKeysUsed();
+
+  // The components' own checks (cross-field ones included), reported against the section.
+  try {
+    s.Validate();
+  } catch (const std::invalid_argument& e) {
+    std::string section = u.KeyPath("");
+    section.pop_back();  // KeyPath("") ends in the separator
+    throw ConfigError(u.file() + ": section " + section + ": " + e.what());
+  }
+  return options;
+}
+
+UtilityOptions LoadUtilityOptionsFromFile(const std::string& file) {
+  if (file.empty()) return UtilityOptions{};
+  return LoadUtilityOptions(ConfigReader::FromFile(file, "utility"));
+}
+
+}  // namespace aslam

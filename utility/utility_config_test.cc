@@ -1,1 +1,123 @@
-// placeholder: being written
+#include "utility/utility_config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "common/config_testing.h"
+
+#include "navigation/nav_config.h"
+
+namespace aslam {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const std::string kShippedConfig = ShippedConfigPath();
+
+std::string ErrorOf(const std::string& yaml) { return ConfigErrorOf(LoadUtilityOptions, yaml, "utility"); }
+
+TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
+  const UtilityOptions shipped = LoadUtilityOptionsFromFile(kShippedConfig);
+  const UtilityOptions defaults;
+  const GoalSelectorOptions& s = shipped.selector;
+  const GoalSelectorOptions& d = defaults.selector;
+  EXPECT_EQ(s.method, UtilityMethod::kOurs);
+  EXPECT_EQ(s.method, d.method);
+  EXPECT_DOUBLE_EQ(s.path_entropy.lambda, 0.6);  // paper eq. 6
+  EXPECT_EQ(s.path_entropy.distance_unit, DistanceUnit::kMeters);
+  EXPECT_DOUBLE_EQ(s.path_entropy.p_unknown, d.path_entropy.p_unknown);
+  EXPECT_DOUBLE_EQ(s.path_entropy.p_known, d.path_entropy.p_known);
+  EXPECT_DOUBLE_EQ(s.min_distance_m, 0.25);  // DESIGN §5
+  EXPECT_DOUBLE_EQ(s.max_path_length_m, d.max_path_length_m);
+  EXPECT_DOUBLE_EQ(s.blacklist_radius_m, d.blacklist_radius_m);
+  EXPECT_DOUBLE_EQ(s.goal_snap_m, d.goal_snap_m);
+  EXPECT_DOUBLE_EQ(shipped.done_timeout_s, defaults.done_timeout_s);
+  EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, d.costmap.robot_radius_m);
+  EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, d.costmap.inflation_margin_m);
+  EXPECT_DOUBLE_EQ(s.costmap.cost_scaling_per_m, d.costmap.cost_scaling_per_m);
+  EXPECT_EQ(s.costmap.occupied_threshold, d.costmap.occupied_threshold);
+  EXPECT_EQ(s.costmap.unknown_passable, d.costmap.unknown_passable);
+  EXPECT_EQ(s.costmap.unknown_cost, d.costmap.unknown_cost);
+  EXPECT_DOUBLE_EQ(s.global_planner.cost_weight, d.global_planner.cost_weight);
+  EXPECT_DOUBLE_EQ(s.global_planner.start_escape_m, d.global_planner.start_escape_m);
+  const HallucinationOptions& h = s.hallucination;
+  const HallucinationOptions& hd = d.hallucination;
+  EXPECT_EQ(h.path_cells_per_node, 100);
+  EXPECT_EQ(h.path_cells_per_node, hd.path_cells_per_node);
+  EXPECT_DOUBLE_EQ(h.odometry_sigma_xx, hd.odometry_sigma_xx);
+  EXPECT_DOUBLE_EQ(h.odometry_sigma_xy, hd.odometry_sigma_xy);
+  EXPECT_DOUBLE_EQ(h.odometry_sigma_yy, hd.odometry_sigma_yy);
+  EXPECT_DOUBLE_EQ(h.odometry_sigma_yawyaw, hd.odometry_sigma_yawyaw);
+  EXPECT_DOUBLE_EQ(h.unknown_radius_m, hd.unknown_radius_m);
+  EXPECT_DOUBLE_EQ(h.loop_closure_radius_m, hd.loop_closure_radius_m);
+  EXPECT_EQ(h.max_loop_closures_per_node, hd.max_loop_closures_per_node);
+  EXPECT_EQ(h.exclude_newest_nodes, hd.exclude_newest_nodes);
+  EXPECT_DOUBLE_EQ(h.occupied_fraction_threshold, hd.occupied_fraction_threshold);
+  EXPECT_DOUBLE_EQ(h.loop_closure_scale, hd.loop_closure_scale);
+}
+
+TEST(UtilityConfig, ShippedPlanningCostmapIsTheNavigators) {
+  // Path lengths and reachability must be the ones the navigator will see.
+  const UtilityOptions utility = LoadUtilityOptionsFromFile(kShippedConfig);
+  const NavOptions nav = LoadNavOptionsFromFile(kShippedConfig);
+  EXPECT_DOUBLE_EQ(utility.selector.costmap.robot_radius_m, nav.costmap.robot_radius_m);
+  EXPECT_DOUBLE_EQ(utility.selector.costmap.inflation_margin_m, nav.costmap.inflation_margin_m);
+  EXPECT_DOUBLE_EQ(utility.selector.costmap.cost_scaling_per_m, nav.costmap.cost_scaling_per_m);
+  EXPECT_EQ(utility.selector.costmap.occupied_threshold, nav.costmap.occupied_threshold);
+  EXPECT_EQ(utility.selector.costmap.unknown_passable, nav.costmap.unknown_passable);
+  EXPECT_EQ(utility.selector.costmap.unknown_cost, nav.costmap.unknown_cost);
+  EXPECT_DOUBLE_EQ(utility.selector.global_planner.cost_weight, nav.global_planner.cost_weight);
+  EXPECT_DOUBLE_EQ(utility.selector.global_planner.start_escape_m,
+                   nav.global_planner.start_escape_m);
+  EXPECT_DOUBLE_EQ(utility.selector.goal_snap_m, nav.navigator.goal_snap_m);
+}
+
+TEST(UtilityConfig, EmptyFileNameGivesDefaults) {
+  EXPECT_EQ(LoadUtilityOptionsFromFile("").selector.method, UtilityMethod::kOurs);
+}
+
+TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
+  const UtilityOptions fd = LoadUtilityOptions(ConfigReader::FromString(
+      "utility:\n  method: fd\n  blacklist_radius_m: 1.0\n  done_timeout_s: 3\n", "utility"));
+  EXPECT_EQ(fd.selector.method, UtilityMethod::kFd);
+  EXPECT_DOUBLE_EQ(fd.selector.blacklist_radius_m, 1.0);
+  EXPECT_DOUBLE_EQ(fd.done_timeout_s, 3.0);
+  const UtilityOptions ags = LoadUtilityOptions(ConfigReader::FromString(
+      "utility:\n  method: ags\n  distance_unit: cells\n  robot_radius_m: 0.3\n"
+      "  hallucination: {exclude_newest_nodes: 5}\n",
+      "utility"));
+  EXPECT_EQ(ags.selector.method, UtilityMethod::kAgs);
+  EXPECT_EQ(ags.selector.path_entropy.distance_unit, DistanceUnit::kCells);
+  EXPECT_DOUBLE_EQ(ags.selector.costmap.robot_radius_m, 0.3);
+  EXPECT_EQ(ags.selector.hallucination.exclude_newest_nodes, 5);
+}
+
+TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {
+  EXPECT_THAT(ErrorOf("utility:\n  method: best\n"),
+              AllOf(HasSubstr("test.yaml:2"), HasSubstr("utility.method"), HasSubstr("'best'"),
+                    HasSubstr("fd, ags or ours")));
+  EXPECT_THAT(ErrorOf("utility:\n  distance_unit: feet\n"),
+              AllOf(HasSubstr("utility.distance_unit"), HasSubstr("'feet'")));
+  EXPECT_THAT(ErrorOf("utility:\n  lambda: -0.6\n"),
+              AllOf(HasSubstr("test.yaml:2"), HasSubstr("utility.lambda"), HasSubstr("'-0.6'")));
+  EXPECT_THAT(ErrorOf("utility:\n  blacklist_radius_m: wide\n"),
+              AllOf(HasSubstr("utility.blacklist_radius_m"), HasSubstr("'wide'")));
+  EXPECT_THAT(ErrorOf("utility:\n  done_timeout_s: -1\n"), HasSubstr("utility.done_timeout_s"));
+  EXPECT_THAT(ErrorOf("utility:\n  hallucination:\n    path_cells_per_node: 0\n"),
+              AllOf(HasSubstr("test.yaml:3"), HasSubstr("utility.hallucination.path_cells_per_node"),
+                    HasSubstr("'0'")));
+  EXPECT_THAT(ErrorOf("utility:\n  hallucination: {odometry_sigma_xy: 0.05}\n"),
+              AllOf(HasSubstr("utility.hallucination.odometry_sigma_xy"), HasSubstr("positive definite")));
+  EXPECT_THAT(ErrorOf("utility:\n  costmap: {unknown_cost: 300}\n"),
+              AllOf(HasSubstr("utility.costmap.unknown_cost"), HasSubstr("'300'")));
+  EXPECT_THAT(ErrorOf("utility:\n  lamda: 0.6\n"),
+              AllOf(HasSubstr("utility.lamda"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("utility:\n  hallucination: {sigma: 1}\n"),
+              AllOf(HasSubstr("utility.hallucination.sigma"), HasSubstr("unknown key")));
+}
+
+}  // namespace
+}  // namespace aslam

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Regenerates logs/decision_fixture.lcmlog (tests/utility_replay_test.cc):
+# 40 simulated seconds of the test-world loop with SLAM, frontier and utility
+# nodes in one process, keeping their map, pose, graph, frontiers, scores and
+# goals. Deterministic: a rerun writes the same bytes.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$root/build}"
+"$build/tests/record_decision_fixture" "$root/logs/decision_fixture.lcmlog" 40

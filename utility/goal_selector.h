@@ -1,0 +1,123 @@
+#pragma once
+
+// One goal decision (DESIGN §5, issue #5): every frontier is scored by the
+// configured method and the best eligible one wins. No LCM, no wall clock.
+//
+//   eligibility  ineligible (total = -inf) when the target is closer than
+//                min_distance_m to the robot, unreachable in the costmap,
+//                within blacklist_radius_m of a reached or failed goal, or its
+//                planned path is longer than max_path_length_m (0: no limit)
+//   fd           total = -path length: the nearest eligible frontier by path
+//   ags          total = U1 (spanning trees of the graph extended by the
+//                hallucinated path to the frontier)
+//   ours         total = U1 + U2 (path_entropy.h)
+//
+// Path lengths and paths come from ONE one-to-all Dijkstra from the robot; U1
+// from one factorization of the current graph (IncrementalLogDet) plus one
+// LogDet per frontier. Terms a method does not use are left 0. Ties (within
+// 1e-9 relative) go to the shorter path, then to the earlier frontier.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/occupancy_grid.h"
+#include "common/pose2d.h"
+#include "common/pose_graph.h"
+#include "frontier/frontier.h"
+#include "navigation/costmap.h"
+#include "navigation/global_planner.h"
+#include "utility/hallucination.h"
+#include "utility/path_entropy.h"
+#include "utility/spanning_trees.h"
+
+namespace aslam {
+
+enum class UtilityMethod { kFd, kAgs, kOurs };
+
+// "fd", "ags", "ours".
+const char* UtilityMethodName(UtilityMethod method);
+std::optional<UtilityMethod> ParseUtilityMethod(const std::string& name);
+// ags and ours score the pose graph; fd does not need one.
+inline bool MethodUsesGraph(UtilityMethod method) { return method != UtilityMethod::kFd; }
+
+// Codes equal frontier_score_t's ELIGIBLE / INELIGIBLE_* constants.
+enum class Eligibility { kEligible = 0, kTooClose = 1, kUnreachable = 2, kBlacklisted = 3, kTooFar = 4 };
+const char* EligibilityName(Eligibility eligibility);
+
+struct GoalSelectorOptions {
+  UtilityMethod method = UtilityMethod::kOurs;
+  PathEntropyOptions path_entropy;  // λ and the unit of d in γ
+  double min_distance_m = 0.25;     // targets closer to the robot are ineligible (DESIGN §5)
+  double max_path_length_m = 0.0;   // longer planned paths are ineligible; 0 = no limit
+  double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
+  // A target the planner cannot enter (e.g. in the inflated zone) is planned
+  // to the reachable cell nearest to it within this distance, as the navigator does.
+  double goal_snap_m = 0.15;
+  CostmapOptions costmap;  // the planning costmap (same defaults as the navigator's)
+  GlobalPlannerOptions global_planner;
+  HallucinationOptions hallucination;
+
+  // Throws std::invalid_argument naming the field and value.
+  void Validate() const;
+};
+
+// Every term for one frontier (what UTILITY_SCORES carries).
+struct FrontierScore {
+  int frontier_id = -1;
+  Point2d target_m;             // the frontier's target, "map"
+  double path_length_m = -1.0;  // planned path robot -> target; -1 if unreachable
+  double distance_m = 0.0;      // Euclidean robot cell -> target cell centres
+  int ray_cells = 0;            // K
+  double path_entropy_bits = 0.0;
+  double mean_entropy_bits = 0.0;
+  double gamma = 0.0;
+  int beta = 0;
+  double rho = 0.0;
+  double u1 = 0.0;
+  double u2 = 0.0;
+  double total = 0.0;  // -inf when ineligible
+  Eligibility eligibility = Eligibility::kEligible;
+  bool chosen = false;
+  // Diagnostics of the hallucinated extension (ags, ours).
+  int hallucinated_nodes = 0;
+  int hallucinated_edges = 0;
+  bool eligible() const { return eligibility == Eligibility::kEligible; }
+};
+
+struct GoalDecision {
+  std::vector<FrontierScore> scores;  // one per input frontier, in input order
+  int chosen_index = -1;              // into scores; -1 when nothing is eligible
+  int num_eligible = 0;
+  int graph_nodes = 0;   // size of the pose graph scored (0 for fd)
+  int cached_solves = 0; // IncrementalLogDet solves (diagnostic)
+  std::string note;      // why U1 could not be computed, if so
+  bool has_goal() const { return chosen_index >= 0; }
+  const FrontierScore& chosen() const { return scores[chosen_index]; }
+};
+
+// True when every node is reachable from node 0 over edges of positive finite
+// weight, i.e. the reduced Laplacian is positive definite (true for 1 node).
+bool IsConnected(const WeightedGraph& graph);
+
+class GoalSelector {
+ public:
+  // Throws std::invalid_argument for invalid options.
+  explicit GoalSelector(GoalSelectorOptions options);
+
+  // Scores `frontiers` from `robot` on `map`. `graph` is scored by ags and ours
+  // (ignored by fd); an empty or disconnected graph leaves every U1 at 0 and
+  // says so in `note`. `blacklist_m` holds reached and failed goal targets.
+  GoalDecision Decide(const OccupancyGrid& map, const Pose2d& robot, const PoseGraph& graph,
+                      const std::vector<Frontier>& frontiers,
+                      const std::vector<Point2d>& blacklist_m);
+
+  const GoalSelectorOptions& options() const { return options_; }
+
+ private:
+  GoalSelectorOptions options_;
+  GlobalPlanner planner_;
+  ShortestPathTree tree_;  // reused: no allocation per decision on a same-size map
+};
+
+}  // namespace aslam
