@@ -1,6 +1,9 @@
 #include "navigation/costmap.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -9,6 +12,11 @@
 
 namespace aslam {
 namespace {
+
+[[noreturn]] void Fail(const char* what) {
+  std::fprintf(stderr, "costmap: %s\n", what);
+  std::abort();
+}
 
 template <typename T>
 [[noreturn]] void ThrowBadOption(const std::string& name, T value, const std::string& why) {
@@ -37,43 +45,46 @@ void CostmapOptions::Validate() const {
   }
 }
 
-Costmap::Costmap(const OccupancyGrid& map, const CostmapOptions& options)
-    : options_(options),
-      width_cells_(map.width_cells()),
-      height_cells_(map.height_cells()),
-      resolution_m_(map.resolution_m()),
-      origin_m_(map.origin_m()) {
-  options_.Validate();
-  if (map.empty()) return;
+Costmap::Costmap(const OccupancyGrid& map, const CostmapOptions& options) { Rebuild(map, options); }
+
+void Costmap::Rebuild(const OccupancyGrid& map, const CostmapOptions& options) {
+  options.Validate();
+  options_ = options;
+  width_cells_ = map.width_cells();
+  height_cells_ = map.height_cells();
+  resolution_m_ = map.resolution_m();
+  origin_m_ = map.origin_m();
+  if (map.empty()) {
+    costs_.clear();
+    unknown_.clear();
+    obstacle_distance_m_.clear();
+    return;
+  }
   const std::size_t n = static_cast<std::size_t>(width_cells_) * height_cells_;
   const std::vector<int8_t>& cells = map.cells();
+  costs_.resize(n);
+  unknown_.resize(n);
+  obstacle_distance_m_.resize(n);
 
-  // distanceTransform measures to the nearest zero pixel: obstacles are 0.
-  cv::Mat free_mask(height_cells_, width_cells_, CV_8U);
-  unknown_.assign(n, 0);
-  bool any_obstacle = false;
-  for (int row = 0; row < height_cells_; ++row) {
-    uint8_t* out = free_mask.ptr<uint8_t>(row);
-    const std::size_t base = static_cast<std::size_t>(row) * width_cells_;
-    for (int col = 0; col < width_cells_; ++col) {
-      const int8_t value = cells[base + col];
-      const bool obstacle = value >= options_.occupied_threshold;
-      any_obstacle |= obstacle;
-      out[col] = obstacle ? 0 : 255;
-      unknown_[base + col] = value < 0 ? 1 : 0;
-    }
+  // distanceTransform measures to the nearest zero pixel: obstacles are 0. The
+  // mask lives in costs_ (overwritten with the costs below) and the transform
+  // writes straight into obstacle_distance_m_: no temporary images.
+  cv::Mat free_mask(height_cells_, width_cells_, CV_8U, costs_.data());
+  const int8_t occupied = static_cast<int8_t>(options_.occupied_threshold);
+  uint8_t any_obstacle = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int8_t value = cells[i];
+    const uint8_t obstacle = value >= occupied;
+    any_obstacle |= obstacle;
+    costs_[i] = obstacle ? 0 : 255;
+    unknown_[i] = value < 0;
   }
 
-  obstacle_distance_m_.resize(n);
   if (any_obstacle) {
-    cv::Mat distance_cells;
-    cv::distanceTransform(free_mask, distance_cells, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-    for (int row = 0; row < height_cells_; ++row) {
-      const float* in = distance_cells.ptr<float>(row);
-      float* out = obstacle_distance_m_.data() + static_cast<std::size_t>(row) * width_cells_;
-      for (int col = 0; col < width_cells_; ++col) {
-        out[col] = static_cast<float>(in[col] * resolution_m_);
-      }
+    cv::Mat distance(height_cells_, width_cells_, CV_32F, obstacle_distance_m_.data());
+    cv::distanceTransform(free_mask, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+    if (distance.data != reinterpret_cast<uchar*>(obstacle_distance_m_.data())) {
+      Fail("distanceTransform did not write into the given buffer");
     }
   } else {
     // OpenCV returns a large finite sentinel here; say "none" plainly.
@@ -82,24 +93,47 @@ Costmap::Costmap(const OccupancyGrid& map, const CostmapOptions& options)
   }
 
   // Costs from distances; float comparison so that d == radius (as stored) is inscribed.
+  // Distances inside the margin take few values (sqrt of an integer, in cells): the
+  // exp of each is computed once, keyed by the squared distance and checked exactly.
   const float radius_m = static_cast<float>(options_.robot_radius_m);
   const float outer_m = static_cast<float>(options_.robot_radius_m + options_.inflation_margin_m);
-  costs_.resize(n);
+  const double outer_cells = static_cast<double>(outer_m) / resolution_m_ + 2.0;
+  const std::size_t table_size = static_cast<std::size_t>(std::min(outer_cells * outer_cells, 65536.0)) + 1;
+  std::vector<float> table_distance(table_size, -1.0f);  // -1: empty slot (distances are >= 0)
+  std::vector<uint8_t> table_cost(table_size, 0);
+  auto decayed_cost = [&](float d) {
+    return static_cast<uint8_t>(
+        std::lround((kInscribed - 1) *
+                    std::exp(-options_.cost_scaling_per_m * (d - options_.robot_radius_m))));
+  };
+  const bool mark_no_go = !options_.unknown_passable;
   for (std::size_t i = 0; i < n; ++i) {
-    const float d = obstacle_distance_m_[i];
+    const float d_cells = obstacle_distance_m_[i];  // cells until converted below
+    float d = d_cells;
+    if (any_obstacle) {
+      d = static_cast<float>(d_cells * resolution_m_);  // cells -> metres, as stored
+      obstacle_distance_m_[i] = d;
+    }
     uint8_t cost;
     if (d <= 0.0f) {
       cost = kLethal;
     } else if (d <= radius_m) {
       cost = kInscribed;
     } else if (d <= outer_m) {
-      cost = static_cast<uint8_t>(
-          std::lround((kInscribed - 1) *
-                      std::exp(-options_.cost_scaling_per_m * (d - options_.robot_radius_m))));
+      const std::size_t key = static_cast<std::size_t>(d_cells * d_cells + 0.5f);
+      if (key < table_size) {
+        if (table_distance[key] != d) {
+          table_distance[key] = d;
+          table_cost[key] = decayed_cost(d);
+        }
+        cost = table_cost[key];
+      } else {
+        cost = decayed_cost(d);
+      }
     } else {
       cost = kFree;
     }
-    if (unknown_[i] && !options_.unknown_passable) cost = kNoGo;
+    if (mark_no_go && unknown_[i]) cost = kNoGo;
     costs_[i] = cost;
   }
 }

@@ -47,6 +47,9 @@ class Costmap {
   Costmap() = default;
   // Throws std::invalid_argument for invalid options.
   Costmap(const OccupancyGrid& map, const CostmapOptions& options);
+  // The same as *this = Costmap(map, options), reusing this costmap's layers
+  // (not reallocated on a map of the same size). Throws like the constructor.
+  void Rebuild(const OccupancyGrid& map, const CostmapOptions& options);
 
   int width_cells() const { return width_cells_; }
   int height_cells() const { return height_cells_; }

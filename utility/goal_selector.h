@@ -117,7 +117,9 @@ class GoalSelector {
  private:
   GoalSelectorOptions options_;
   GlobalPlanner planner_;
-  ShortestPathTree tree_;  // reused: no allocation per decision on a same-size map
+  // Reused across decisions: no allocation per decision on a same-size map.
+  Costmap costmap_;
+  ShortestPathTree tree_;
 };
 
 }  // namespace aslam

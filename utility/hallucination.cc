@@ -76,15 +76,16 @@ CellFractions FractionsWithin(const OccupancyGrid& map, Point2d center_m, double
     const int in_lo = std::max(col_lo, 0);
     const int in_hi = std::min(col_hi, map.width_cells() - 1);
     unknown += span - std::max(0, in_hi - in_lo + 1);  // off-grid columns
-    const std::size_t row_start = static_cast<std::size_t>(row) * map.width_cells();
+    // Branch-free counts (the compiler vectorizes them): a disc is ~1300 cells per node.
+    const int8_t* row_cells = cells.data() + static_cast<std::size_t>(row) * map.width_cells();
+    int row_unknown = 0, row_occupied = 0;
     for (int col = in_lo; col <= in_hi; ++col) {
-      const int8_t value = cells[row_start + col];
-      if (value < 0) {
-        ++unknown;
-      } else if (value >= kOccupiedValue) {
-        ++occupied;
-      }
+      const int8_t value = row_cells[col];
+      row_unknown += value < 0;
+      row_occupied += value >= kOccupiedValue;
     }
+    unknown += row_unknown;
+    occupied += row_occupied;
   }
   if (total == 0) return {1.0, 0.0};  // radius below half a cell and off-centre: treat as unmapped
   return {static_cast<double>(unknown) / total, static_cast<double>(occupied) / total};
@@ -142,23 +143,46 @@ Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<
   const int last_eligible = num_base - options.exclude_newest_nodes;  // base nodes j < this may close loops
   const double radius_sq = options.loop_closure_radius_m * options.loop_closure_radius_m;
   // Base nodes that may close a loop with any new node: eligible index, inside
-  // the new nodes' bounding box grown by the radius (one pass over the graph).
-  std::vector<int> nearby;
+  // the new nodes' bounding box grown by the radius (one pass over the graph),
+  // binned on a grid of cells a bit wider than the radius so that each new node
+  // looks at the 3x3 bins around it only (a long path's box holds most of the graph).
+  const double r = options.loop_closure_radius_m;
+  double x_lo = result.nodes[0].pose.x_m, x_hi = x_lo, y_lo = result.nodes[0].pose.y_m, y_hi = y_lo;
+  for (const HallucinatedNode& node : result.nodes) {
+    x_lo = std::min(x_lo, node.pose.x_m);
+    x_hi = std::max(x_hi, node.pose.x_m);
+    y_lo = std::min(y_lo, node.pose.y_m);
+    y_hi = std::max(y_hi, node.pose.y_m);
+  }
+  const double box_x0 = x_lo - r, box_y0 = y_lo - r;
+  // >= r·(1 + 1e-6): a node within r of another is at most one bin away despite rounding;
+  // at most ~256 bins a side.
+  const double bin_m = std::max(r, std::max(x_hi - x_lo, y_hi - y_lo) / 250.0) * (1.0 + 1e-6);
+  const int bin_cols = static_cast<int>((x_hi + r - box_x0) / bin_m) + 1;
+  const int bin_rows = static_cast<int>((y_hi + r - box_y0) / bin_m) + 1;
+  auto bin_col = [&](double x) { return std::min(bin_cols - 1, static_cast<int>((x - box_x0) / bin_m)); };
+  auto bin_row = [&](double y) { return std::min(bin_rows - 1, static_cast<int>((y - box_y0) / bin_m)); };
+  std::vector<int> nearby;     // eligible base nodes in the box, grouped by bin, ascending within a bin
+  std::vector<int> bin_start;  // nearby[bin_start[b] .. bin_start[b + 1]) are in bin b
   if (last_eligible > 0) {
-    double x_lo = result.nodes[0].pose.x_m, x_hi = x_lo, y_lo = result.nodes[0].pose.y_m, y_hi = y_lo;
-    for (const HallucinatedNode& node : result.nodes) {
-      x_lo = std::min(x_lo, node.pose.x_m);
-      x_hi = std::max(x_hi, node.pose.x_m);
-      y_lo = std::min(y_lo, node.pose.y_m);
-      y_hi = std::max(y_hi, node.pose.y_m);
-    }
-    const double r = options.loop_closure_radius_m;
+    std::vector<int> in_box;
     for (int j = 0; j < last_eligible; ++j) {
       const Pose2d& pose = graph.nodes[j].pose;
       if (pose.x_m >= x_lo - r && pose.x_m <= x_hi + r && pose.y_m >= y_lo - r && pose.y_m <= y_hi + r) {
-        nearby.push_back(j);
+        in_box.push_back(j);
       }
     }
+    bin_start.assign(static_cast<std::size_t>(bin_cols) * bin_rows + 1, 0);
+    std::vector<int> bin_of(in_box.size());
+    for (std::size_t q = 0; q < in_box.size(); ++q) {
+      const Pose2d& pose = graph.nodes[in_box[q]].pose;
+      bin_of[q] = bin_row(pose.y_m) * bin_cols + bin_col(pose.x_m);
+      ++bin_start[bin_of[q] + 1];
+    }
+    for (std::size_t b = 1; b < bin_start.size(); ++b) bin_start[b] += bin_start[b - 1];
+    nearby.resize(in_box.size());
+    std::vector<int> next(bin_start.begin(), bin_start.end() - 1);
+    for (std::size_t q = 0; q < in_box.size(); ++q) nearby[next[bin_of[q]]++] = in_box[q];
   }
   for (int k = 0; k < num_new; ++k) {
     const HallucinatedNode& node = result.nodes[k];
@@ -173,12 +197,22 @@ Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<
     result.edges.push_back(chain);
 
     if (!(node.occupied_fraction > options.occupied_fraction_threshold)) continue;
+    // Candidates in any order: the nearest `keep` by (distance, index) are unique.
     std::vector<std::pair<double, int>> candidates;  // (squared distance, j)
-    for (int j : nearby) {
-      const Pose2d& other = graph.nodes[j].pose;
-      const double dx = other.x_m - node.pose.x_m, dy = other.y_m - node.pose.y_m;
-      const double distance_sq = dx * dx + dy * dy;
-      if (distance_sq <= radius_sq) candidates.emplace_back(distance_sq, j);
+    if (!nearby.empty()) {
+      const int col = bin_col(node.pose.x_m), row = bin_row(node.pose.y_m);
+      for (int bin_r = std::max(row - 1, 0); bin_r <= std::min(row + 1, bin_rows - 1); ++bin_r) {
+        for (int bin_c = std::max(col - 1, 0); bin_c <= std::min(col + 1, bin_cols - 1); ++bin_c) {
+          const int b = bin_r * bin_cols + bin_c;
+          for (int q = bin_start[b]; q < bin_start[b + 1]; ++q) {
+            const int j = nearby[q];
+            const Pose2d& other = graph.nodes[j].pose;
+            const double dx = other.x_m - node.pose.x_m, dy = other.y_m - node.pose.y_m;
+            const double distance_sq = dx * dx + dy * dy;
+            if (distance_sq <= radius_sq) candidates.emplace_back(distance_sq, j);
+          }
+        }
+      }
     }
     const std::size_t keep =
         std::min(candidates.size(), static_cast<std::size_t>(options.max_loop_closures_per_node));

@@ -49,8 +49,8 @@ void ForEachReducedLaplacianEntry(const WeightedGraph& base, const GraphExtensio
 }
 
 // A cholmod_common set up the same way everywhere: AMD only (deterministic and
-// cheap on these very sparse graphs), simplicial LDLᵀ (DESIGN §5: the Bset
-// solves need a simplicial factor from the start), quiet (we check status).
+// cheap on these very sparse graphs), simplicial LDLᵀ (the incremental path
+// solves read its columns directly), quiet (we check status).
 struct Cholmod {
   cholmod_common common;
   Cholmod() {
@@ -216,72 +216,94 @@ struct IncrementalLogDet::Impl {
   std::vector<int> inverse_perm;  // node k-1 -> permuted position
   std::vector<double> inverse_d;  // 1 / D, in permuted order
   std::unordered_map<int, SparseVector> solves;  // by reduced index k-1
-  // cholmod_solve2 buffers, reused across solves.
-  cholmod_dense* rhs = nullptr;
-  cholmod_sparse* rhs_set = nullptr;
-  cholmod_dense* solution = nullptr;
-  cholmod_sparse* solution_set = nullptr;
-  cholmod_dense* work_y = nullptr;
-  cholmod_dense* work_e = nullptr;
+  std::vector<int> etree_parent;  // parent of each permuted column in L's elimination tree; -1 at a root
+  std::vector<double> work;       // all-zero between solves, size n
 
   ~Impl() {
-    cholmod_common* c = &cholmod.common;
-    if (factor != nullptr) cholmod_free_factor(&factor, c);
-    if (rhs != nullptr) cholmod_free_dense(&rhs, c);
-    if (rhs_set != nullptr) cholmod_free_sparse(&rhs_set, c);
-    if (solution != nullptr) cholmod_free_dense(&solution, c);
-    if (solution_set != nullptr) cholmod_free_sparse(&solution_set, c);
-    if (work_y != nullptr) cholmod_free_dense(&work_y, c);
-    if (work_e != nullptr) cholmod_free_dense(&work_e, c);
+    if (factor != nullptr) cholmod_free_factor(&factor, &cholmod.common);
   }
 
+  // y = L⁻¹ e (unit L, permuted order) for e the unit vector of one node: nonzero
+  // only on that node's elimination-tree path to the root, and every row of a
+  // path column is on the path, so the solve walks the path column by column
+  // (children first) — the column-oriented forward solve CHOLMOD's
+  // cholmod_solve2(CHOLMOD_L) with a Bset runs, the same operations in the same
+  // order, without its per-call pattern computation.
   const SparseVector& Solve(int reduced_index) {
     auto found = solves.find(reduced_index);
     if (found != solves.end()) return found->second;
-    cholmod_common* c = &cholmod.common;
-    // CHOLMOD 3.0.14 pitfall: with CHOLMOD_L the Bset (and B) are in permuted order.
-    const int position = inverse_perm[reduced_index];
-    auto* b = static_cast<double*>(rhs->x);
-    b[position] = 1.0;
-    static_cast<int*>(rhs_set->p)[0] = 0;
-    static_cast<int*>(rhs_set->p)[1] = 1;
-    static_cast<int*>(rhs_set->i)[0] = position;
-    if (!cholmod_solve2(CHOLMOD_L, factor, rhs, rhs_set, &solution, &solution_set, &work_y,
-                        &work_e, c)) {
-      Fail("cholmod_solve2 failed");
-    }
-    b[position] = 0.0;  // keep B all-zero for the next unit right-hand side
-    // Only the Xset entries of X are valid (the rest are stale).
-    const auto* x = static_cast<const double*>(solution->x);
-    const auto* set_p = static_cast<const int*>(solution_set->p);
-    const auto* set_i = static_cast<const int*>(solution_set->i);
+    const auto* lp = static_cast<const int*>(factor->p);
+    const auto* li = static_cast<const int*>(factor->i);
+    const auto* lx = static_cast<const double*>(factor->x);
+    const auto* lnz = static_cast<const int*>(factor->nz);
     SparseVector vector;
-    vector.index.assign(set_i + set_p[0], set_i + set_p[1]);
-    vector.value.reserve(vector.index.size());
-    for (int k : vector.index) vector.value.push_back(x[k]);
+    const int position = inverse_perm[reduced_index];
+    work[position] = 1.0;
+    for (int j = position; j >= 0; j = etree_parent[j]) {
+      const double yj = work[j];
+      for (int p = lp[j] + 1; p < lp[j] + lnz[j]; ++p) work[li[p]] -= lx[p] * yj;
+      vector.index.push_back(j);
+      vector.value.push_back(yj);
+      work[j] = 0.0;  // back to all-zero for the next solve
+    }
     return solves.emplace(reduced_index, std::move(vector)).first->second;
   }
 
   // S = (A⁻¹)_TT, S_ij = y_iᵀ D⁻¹ y_j: scatter D⁻¹ y_i into a dense buffer, gather y_j.
+  // Both vectors live on root paths of the elimination tree (ascending), so they
+  // share exactly the path from their common ancestor to the root: a suffix of y_j,
+  // found by binary search on a mark of y_i's path. Outside it the scatter is 0 and
+  // each skipped term is ±0, which leaves the sum's bits alone. Four gathers run
+  // interleaved, each in its own term order (same bits as one at a time), so four
+  // independent add chains hide the add latency that bounds one.
   Eigen::MatrixXd InverseBlock(const std::vector<const SparseVector*>& y) {
     const int t = static_cast<int>(y.size());
     Eigen::MatrixXd block(t, t);
+    const double* scattered = scatter.data();
+    auto shared_from = [this](const SparseVector& b) {  // first entry of b on the marked path
+      const auto first = std::partition_point(b.index.begin(), b.index.end(),
+                                              [this](int k) { return mark[k] != stamp; });
+      return static_cast<std::size_t>(first - b.index.begin());
+    };
+    auto dot_tail = [scattered](const SparseVector& b, std::size_t from, double sum) {
+      for (std::size_t k = from; k < b.index.size(); ++k) sum += scattered[b.index[k]] * b.value[k];
+      return sum;
+    };
     for (int i = 0; i < t; ++i) {
       const SparseVector& a = *y[i];
+      ++stamp;
       for (std::size_t k = 0; k < a.index.size(); ++k) {
         scatter[a.index[k]] = a.value[k] * inverse_d[a.index[k]];
+        mark[a.index[k]] = stamp;
       }
-      for (int j = 0; j <= i; ++j) {
-        const SparseVector& b = *y[j];
-        double sum = 0.0;
-        for (std::size_t k = 0; k < b.index.size(); ++k) sum += scatter[b.index[k]] * b.value[k];
-        block(i, j) = block(j, i) = sum;
+      int j = 0;
+      for (; j + 3 <= i; j += 4) {
+        const SparseVector* b[4] = {y[j], y[j + 1], y[j + 2], y[j + 3]};
+        std::size_t from[4];
+        std::size_t common = std::numeric_limits<std::size_t>::max();
+        for (int q = 0; q < 4; ++q) {
+          from[q] = shared_from(*b[q]);
+          common = std::min(common, b[q]->index.size() - from[q]);
+        }
+        double sum[4] = {0.0, 0.0, 0.0, 0.0};
+        for (std::size_t k = 0; k < common; ++k) {
+          for (int q = 0; q < 4; ++q) {
+            sum[q] += scattered[b[q]->index[from[q] + k]] * b[q]->value[from[q] + k];
+          }
+        }
+        for (int q = 0; q < 4; ++q) {
+          const double value = dot_tail(*b[q], from[q] + common, sum[q]);
+          block(i, j + q) = block(j + q, i) = value;
+        }
       }
+      for (; j <= i; ++j) block(i, j) = block(j, i) = dot_tail(*y[j], shared_from(*y[j]), 0.0);
       for (int k : a.index) scatter[k] = 0.0;  // back to all-zero for the next row
     }
     return block;
   }
 
+  std::vector<unsigned> mark;  // mark[k] == stamp: k is on the path InverseBlock scattered
+  unsigned stamp = 0;
   std::vector<double> scatter;  // all-zero between uses, size n
 };
 
@@ -308,14 +330,22 @@ IncrementalLogDet::IncrementalLogDet(const WeightedGraph& base) : impl_(std::mak
   m.inverse_perm.resize(m.n);
   m.inverse_d.resize(m.n);
   m.scatter.assign(m.n, 0.0);
+  m.mark.assign(m.n, 0);
   for (int k = 0; k < m.n; ++k) {
     m.inverse_perm[perm[k]] = k;
     m.inverse_d[k] = 1.0 / x[p[k]];  // D sits on L's diagonal in a simplicial LDLᵀ
   }
-  m.rhs = cholmod_zeros(m.n, 1, CHOLMOD_REAL, c);
-  m.rhs_set = cholmod_allocate_sparse(m.n, 1, 1, /*sorted=*/true, /*packed=*/true, /*stype=*/0,
-                                      CHOLMOD_PATTERN, c);
-  if (m.rhs == nullptr || m.rhs_set == nullptr) Fail("cholmod allocation failed");
+  // The etree parent of column j is its smallest off-diagonal row (its first, in a sorted factor).
+  const auto* li = static_cast<const int*>(m.factor->i);
+  const auto* lnz = static_cast<const int*>(m.factor->nz);
+  m.etree_parent.assign(m.n, -1);
+  for (int j = 0; j < m.n; ++j) {
+    for (int q = p[j] + 1; q < p[j] + lnz[j]; ++q) {
+      if (li[q] <= j) Fail("unexpected entry above the diagonal of L");
+      if (m.etree_parent[j] < 0 || li[q] < m.etree_parent[j]) m.etree_parent[j] = li[q];
+    }
+  }
+  m.work.assign(m.n, 0.0);
 }
 
 IncrementalLogDet::~IncrementalLogDet() = default;
