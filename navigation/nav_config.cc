@@ -13,19 +13,6 @@ std::string Number(double value) {
   return out.str();
 }
 
-void LoadCostmap(const ConfigReader& c, CostmapOptions* o) {
-  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
-  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
-  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
-  c.Read("unknown_passable", &o->unknown_passable);
-  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
-}
-
-void LoadGlobalPlanner(const ConfigReader& c, GlobalPlannerOptions* o) {
-  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
-  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
-}
-
 void LoadLocalObstacles(const ConfigReader& c, LocalObstaclesOptions* o) {
   c.ReadInRange("window_m", &o->window_m, 1.0, 100.0);
   c.ReadInRange("resolution_m", &o->resolution_m, 0.005, 1.0);
@@ -96,6 +83,19 @@ void Validate(const ConfigReader& nav, const std::string& name, const Options& o
 
 }  // namespace
 
+void LoadCostmapOptions(const ConfigReader& c, CostmapOptions* o) {
+  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
+  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
+  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
+  c.Read("unknown_passable", &o->unknown_passable);
+  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
+}
+
+void LoadGlobalPlannerOptions(const ConfigReader& c, GlobalPlannerOptions* o) {
+  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
+  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
+}
+
 NavOptions LoadNavOptions(const ConfigReader& nav) {
   NavOptions options;
   // One radius for the costmap's inscribed zone and the DWA's collision circle.
@@ -106,9 +106,9 @@ NavOptions LoadNavOptions(const ConfigReader& nav) {
 
   LoadNavigator(nav, &options.navigator);
   const ConfigReader costmap = nav.Section("costmap");
-  LoadCostmap(costmap, &options.costmap);
+  LoadCostmapOptions(costmap, &options.costmap);
   const ConfigReader global_planner = nav.Section("global_planner");
-  LoadGlobalPlanner(global_planner, &options.global_planner);
+  LoadGlobalPlannerOptions(global_planner, &options.global_planner);
   const ConfigReader local_obstacles = nav.Section("local_obstacles");
   LoadLocalObstacles(local_obstacles, &options.local_obstacles);
   const ConfigReader dwa = nav.Section("dwa");

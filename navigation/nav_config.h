@@ -68,6 +68,11 @@ struct NavOptions {
   NavigatorOptions navigator;
 };
 
+// The costmap and planner keys, shared with the utility, whose planning
+// costmap must read like the navigator's.
+void LoadCostmapOptions(const ConfigReader& section, CostmapOptions* options);
+void LoadGlobalPlannerOptions(const ConfigReader& section, GlobalPlannerOptions* options);
+
 // Reads and validates the `nav` section; throws ConfigError naming file, key and value.
 NavOptions LoadNavOptions(const ConfigReader& nav_section);
 // Convenience: the `nav` section of `file`; "" gives the defaults.

@@ -3,21 +3,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "navigation/nav_config.h"
+
 namespace aslam {
 namespace {
-
-void LoadCostmap(const ConfigReader& c, CostmapOptions* o) {
-  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
-  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
-  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
-  c.Read("unknown_passable", &o->unknown_passable);
-  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
-}
-
-void LoadGlobalPlanner(const ConfigReader& c, GlobalPlannerOptions* o) {
-  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
-  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
-}
 
 void LoadHallucination(const ConfigReader& c, HallucinationOptions* o) {
   c.ReadInRange("path_cells_per_node", &o->path_cells_per_node, 1, 100000);
@@ -66,8 +55,8 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u) {
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
   u.ReadInRange("robot_radius_m", &s.costmap.robot_radius_m, 0.01, 5.0);
 
-  LoadCostmap(u.Section("costmap"), &s.costmap);
-  LoadGlobalPlanner(u.Section("global_planner"), &s.global_planner);
+  LoadCostmapOptions(u.Section("costmap"), &s.costmap);
+  LoadGlobalPlannerOptions(u.Section("global_planner"), &s.global_planner);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 
