@@ -1,0 +1,136 @@
+// aslam: the product's command. `aslam explore` explores a world and leaves a
+// run folder behind (eval/run_outputs.h). --inproc hosts every node in this
+// process (eval/explore_runner.h); process mode needs procman.
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gflags/gflags.h>
+
+#include "common/flags.h"
+#include "eval/explore_runner.h"
+#include "eval/run_outputs.h"
+
+DEFINE_string(world, "", "world folder (map.yaml + world.yaml) or a map_server MAP.yaml");
+DEFINE_string(start, "", "start pose X,Y,YAW in the world frame (m, m, rad); default: the world's");
+DEFINE_string(method, "ours", "goal selection: fd | ags | ours");
+DEFINE_double(duration, 1800.0, "simulated seconds at most (the run also ends when exploration is done)");
+DEFINE_int64(seed, 1, "simulator seed: the same seed gives the same run");
+DEFINE_bool(inproc, false, "every node in this process on memq://, as fast as the CPU allows");
+DEFINE_double(rate, 1.0, "real-time factor of process mode (--inproc always runs as fast as it can)");
+DEFINE_string(config, "", "config file (config/aslam.yaml layout); default: built-in defaults");
+DEFINE_string(out, "", "run folder to write (created)");
+DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
+
+namespace aslam {
+namespace {
+
+constexpr const char* kUsage =
+    "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
+    "              --seed N [--inproc] [--rate R] [--config FILE] --out DIR";
+
+std::atomic<bool> g_stop{false};
+
+void OnSignal(int) {
+  g_stop = true;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends at once
+}
+
+void PrintProgress(const ExploreProgress& p, bool terminal) {
+  char goal[64] = "none";
+  if (p.goal_id >= 0) std::snprintf(goal, sizeof goal, "#%lld (%.1f, %.1f)", static_cast<long long>(p.goal_id), p.goal_m.x_m, p.goal_m.y_m);
+  std::printf("%st=%7.1f s  coverage %5.1f %%  keyframes %5d  closures %4d  frontiers %3d  goal %-18s  "
+              "reached %3d failed %3d  collisions %lld  %6.1fx real time  %s%s",
+              terminal ? "\r" : "", p.sim_s, 100.0 * p.coverage, p.keyframes, p.loop_closures,
+              p.frontiers, goal, p.goals_reached, p.goals_failed, static_cast<long long>(p.collisions),
+              p.wall_s > 0 ? p.sim_s / p.wall_s : 0.0, p.state.c_str(), terminal ? "\033[K" : "\n");
+  std::fflush(stdout);
+}
+
+int Explore() {
+  if (FLAGS_world.empty() || FLAGS_out.empty()) {
+    std::fprintf(stderr, "aslam explore: --world and --out are required\nusage: %s\n", kUsage);
+    return 2;
+  }
+  if (FLAGS_seed < 0 || FLAGS_rate < 0 || !(FLAGS_duration > 0)) {
+    std::fprintf(stderr, "aslam explore: --seed and --rate must be >= 0, --duration > 0\n");
+    return 2;
+  }
+  if (!FLAGS_inproc) {
+    std::fprintf(stderr,
+                 "aslam explore: process mode needs procman (not built yet); "
+                 "run with --inproc to host every node in this process\n");
+    return 2;
+  }
+  ExploreOptions options;
+  options.world = FLAGS_world;
+  options.method = FLAGS_method;
+  options.duration_s = FLAGS_duration;
+  options.seed = static_cast<uint64_t>(FLAGS_seed);
+  options.config_file = FLAGS_config;
+  options.progress_period_s = FLAGS_progress;
+  if (!FLAGS_start.empty()) {
+    options.start = ParsePose(FLAGS_start);
+    if (!options.start) {
+      std::fprintf(stderr, "aslam explore: --start '%s': expected X,Y,YAW\n", FLAGS_start.c_str());
+      return 2;
+    }
+  }
+  const bool terminal = isatty(STDOUT_FILENO) != 0;
+  try {
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    std::printf("aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, in-process\n",
+                FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
+                FLAGS_duration);
+    std::fflush(stdout);
+    const ExploreResult result = RunExploreInProcess(options, &g_stop, [&](const ExploreProgress& p) {
+      if (FLAGS_progress > 0) PrintProgress(p, terminal);
+    });
+    if (terminal && FLAGS_progress > 0) std::printf("\n");
+    WriteRunFolder(result, FLAGS_out);
+    const RunMetrics& m = result.metrics;
+    std::printf("aslam explore: %s after %.1f s simulated (%.1f s wall): coverage %.1f %%, ATE RMSE "
+                "%.3f m, %d keyframes, %d loop closures, %lld collisions, goals %d reached %d failed\n",
+                m.end_reason.c_str(), m.sim_seconds, m.wall_seconds, 100.0 * m.coverage, m.ate_rmse_m,
+                m.keyframes, m.loop_closures, static_cast<long long>(m.collisions), m.goals_reached,
+                m.goals_failed);
+    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json}\n",
+                FLAGS_out.c_str());
+    return m.end_reason == "interrupted" ? 130 : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam explore: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace
+}  // namespace aslam
+
+int main(int argc, char** argv) {
+  const bool help = argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
+  if (argc < 2 || help || std::strcmp(argv[1], "explore") != 0) {
+    std::fprintf(help ? stdout : stderr,
+                 "usage: aslam <command> [flags]\n\ncommands:\n"
+                 "  explore   explore a world, write a run folder (aslam explore --help)\n\n%s\n",
+                 aslam::kUsage);
+    return help ? 0 : 2;
+  }
+  // The subcommand leaves argv; gflags sees `aslam --flags...`.
+  std::vector<char*> args(argv, argv + argc);
+  args.erase(args.begin() + 1);
+  int n = static_cast<int>(args.size());
+  char** v = args.data();
+  aslam::ParseFlags(&n, &v, aslam::kUsage);
+  if (n > 1) {
+    std::fprintf(stderr, "aslam explore: unexpected argument '%s'\n", v[1]);
+    return 2;
+  }
+  return aslam::Explore();
+}

@@ -1,0 +1,184 @@
+#include "eval/explore_runner.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "common/map_io.h"
+#include "eval/run_outputs.h"
+#include "slam/g2o_io.h"
+
+namespace aslam {
+namespace {
+
+const std::string kRoot = ASLAM_SOURCE_DIR;
+
+ExploreOptions TestWorld(const std::string& method) {
+  ExploreOptions o;
+  o.world = kRoot + "/worlds/test";
+  o.method = method;
+  o.duration_s = 600.0;  // the test world is done in about 240 s
+  o.seed = 1;
+  o.config_file = kRoot + "/config/aslam.yaml";
+  o.progress_period_s = 0.0;
+  return o;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class ExploreMethodTest : public ::testing::TestWithParam<std::string> {};
+
+// Issue 6: each method explores the test world to `done`, >= 95 % covered, without touching a wall.
+TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
+  const ExploreResult r = RunExploreInProcess(TestWorld(GetParam()));
+  const RunMetrics& m = r.metrics;
+  EXPECT_TRUE(m.done) << "ended by " << m.end_reason << " at " << m.sim_seconds << " s";
+  EXPECT_EQ(m.end_reason, "done");
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_EQ(m.collisions, 0);
+  EXPECT_EQ(m.method, GetParam());
+  EXPECT_GT(m.keyframes, 50);
+  EXPECT_EQ(m.ate_matched, m.keyframes);  // every keyframe has truth
+  EXPECT_LT(m.ate_rmse_m, 0.2);
+  ASSERT_TRUE(m.time_to_90_coverage_s.has_value());
+  EXPECT_LT(*m.time_to_90_coverage_s, m.sim_seconds + 1e-9);
+  EXPECT_FALSE(r.map.empty());
+  EXPECT_EQ(static_cast<int>(r.graph.nodes.size()), m.keyframes);
+  std::printf("[ measured ] %s: coverage %.4f, done at %.1f s, ATE RMSE %.3f m, %d keyframes, "
+              "%d loop closures, goals %d reached %d failed\n",
+              GetParam().c_str(), m.coverage, m.sim_seconds, m.ate_rmse_m, m.keyframes,
+              m.loop_closures, m.goals_reached, m.goals_failed);
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest, ::testing::Values("fd", "ags", "ours"),
+                         [](const auto& info) { return info.param; });
+
+// DESIGN §4: in-process runs are deterministic for a seed; only the wall time differs.
+TEST(ExploreRunnerTest, SameSeedGivesIdenticalMetricsAndTimeline) {
+  ExploreResult a = RunExploreInProcess(TestWorld("ours"));
+  ExploreResult b = RunExploreInProcess(TestWorld("ours"));
+  a.metrics.wall_seconds = b.metrics.wall_seconds = 0.0;
+  EXPECT_EQ(MetricsToJson(a.metrics), MetricsToJson(b.metrics));
+  EXPECT_EQ(CoverageToCsv(a.coverage), CoverageToCsv(b.coverage));
+  ASSERT_EQ(a.graph.nodes.size(), b.graph.nodes.size());
+  for (std::size_t i = 0; i < a.graph.nodes.size(); ++i) {
+    EXPECT_EQ(a.graph.nodes[i].pose.x_m, b.graph.nodes[i].pose.x_m) << i;
+    EXPECT_EQ(a.graph.nodes[i].pose.y_m, b.graph.nodes[i].pose.y_m) << i;
+  }
+  EXPECT_EQ(a.map.cells(), b.map.cells());
+}
+
+TEST(ExploreRunnerTest, RunFolderHoldsEveryFileConsistentWithTheMetrics) {
+  const ExploreResult r = RunExploreInProcess(TestWorld("ours"));
+  const std::string dir = ::testing::TempDir() + "/explore_runner_test_run";
+  std::filesystem::remove_all(dir);
+  WriteRunFolder(r, dir);
+  for (const char* f : {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  }
+  const YAML::Node metrics = YAML::LoadFile(dir + "/metrics.json");
+  const int keyframes = metrics["keyframes"].as<int>();
+  const double coverage = metrics["coverage"].as<double>();
+  EXPECT_EQ(keyframes, r.metrics.keyframes);
+
+  const LoadedMap map = LoadMap(dir + "/map.yaml");
+  EXPECT_EQ(map.grid.width_cells(), r.map.width_cells());
+  EXPECT_EQ(map.grid.height_cells(), r.map.height_cells());
+
+  const PoseGraph graph = ReadG2o(dir + "/graph.g2o");
+  EXPECT_EQ(static_cast<int>(graph.nodes.size()), keyframes);
+  int closures = 0;
+  for (const PoseGraphEdge& e : graph.edges) closures += e.kind == EdgeKind::kLoopClosure;
+  EXPECT_EQ(closures, metrics["loop_closures"].as<int>());
+
+  // coverage.csv: header, rows in time order, never dropping much (a loop
+  // closure can re-render a little less), ending at the metrics' coverage.
+  std::istringstream csv(ReadFile(dir + "/coverage.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "t_s,coverage");
+  std::vector<CoverageSample> rows;
+  while (std::getline(csv, line)) {
+    CoverageSample s;
+    char comma = 0;
+    std::istringstream in(line);
+    ASSERT_TRUE(in >> s.t_s >> comma >> s.coverage) << line;
+    rows.push_back(s);
+  }
+  ASSERT_GT(rows.size(), 100u);
+  double best = 0.0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GT(rows[i].t_s, rows[i - 1].t_s) << i;
+    }
+    EXPECT_GE(rows[i].coverage, best - 0.05) << "t=" << rows[i].t_s;
+    best = std::max(best, rows[i].coverage);
+  }
+  EXPECT_NEAR(rows.back().t_s, metrics["sim_seconds"].as<double>(), 1e-3);
+  EXPECT_NEAR(rows.back().coverage, coverage, 1e-6);
+  std::filesystem::remove_all(dir);
+}
+
+// Ctrl-C: the run stops where it is and still returns everything to write.
+TEST(ExploreRunnerTest, StopFlagEndsTheRunEarlyWithResults) {
+  std::atomic<bool> stop{false};
+  ExploreOptions o = TestWorld("fd");
+  o.progress_period_s = 20.0;
+  int reports = 0;
+  const ExploreResult r = RunExploreInProcess(o, &stop, [&](const ExploreProgress& p) {
+    ++reports;
+    if (p.sim_s >= 20.0) stop = true;
+  });
+  EXPECT_EQ(r.metrics.end_reason, "interrupted");
+  EXPECT_FALSE(r.metrics.done);
+  EXPECT_NEAR(r.metrics.sim_seconds, 20.0, 0.05);
+  EXPECT_EQ(reports, 2);  // at 20 s and the final one
+  EXPECT_GT(r.metrics.keyframes, 0);
+  EXPECT_GT(r.metrics.coverage, 0.1);
+  ASSERT_FALSE(r.coverage.empty());
+  EXPECT_NEAR(r.coverage.back().coverage, r.metrics.coverage, 1e-12);
+}
+
+TEST(ExploreRunnerTest, DurationEndsTheRun) {
+  ExploreOptions o = TestWorld("fd");
+  o.duration_s = 5.0;
+  const ExploreResult r = RunExploreInProcess(o);
+  EXPECT_EQ(r.metrics.end_reason, "duration");
+  EXPECT_NEAR(r.metrics.sim_seconds, 5.0, 1e-6);
+  EXPECT_EQ(r.coverage.size(), 5u);  // one per simulated second, the last the final map's
+}
+
+TEST(ExploreRunnerTest, BadInputsThrowBeforeRunning) {
+  ExploreOptions o = TestWorld("nearest");
+  EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
+  o = TestWorld("fd");
+  o.start = Pose2d{-100.0, -100.0, 0.0};  // off the map
+  EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
+  o = TestWorld("fd");
+  o.world = kRoot + "/worlds/no_such_world";
+  EXPECT_THROW(RunExploreInProcess(o), std::exception);
+}
+
+TEST(ParsePoseTest, ParsesXYYawOnly) {
+  const auto p = ParsePose("1.5,-2,0.25");
+  ASSERT_TRUE(p.has_value());
+  EXPECT_DOUBLE_EQ(p->x_m, 1.5);
+  EXPECT_DOUBLE_EQ(p->y_m, -2.0);
+  EXPECT_DOUBLE_EQ(p->yaw_rad, 0.25);
+  EXPECT_FALSE(ParsePose("1,2").has_value());
+  EXPECT_FALSE(ParsePose("1,2,3,4").has_value());
+  EXPECT_FALSE(ParsePose("a,b,c").has_value());
+  EXPECT_FALSE(ParsePose("1;2;3").has_value());
+}
+
+}  // namespace
+}  // namespace aslam

@@ -1,0 +1,189 @@
+#include "eval/run_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/map_io.h"
+#include "slam/g2o_io.h"
+
+namespace aslam {
+namespace {
+
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buffer[8];
+          std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+          out += buffer;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// JSON has no NaN or infinity: those become null.
+std::string JsonNumber(double value) {
+  if (!std::isfinite(value)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace
+
+std::string MetricsToJson(const RunMetrics& m) {
+  std::vector<std::pair<std::string, std::string>> fields = {
+      {"world", JsonString(m.world)},
+      {"method", JsonString(m.method)},
+      {"seed", std::to_string(m.seed)},
+      {"sim_seconds", JsonNumber(m.sim_seconds)},
+      {"wall_seconds", JsonNumber(m.wall_seconds)},
+      {"coverage", JsonNumber(m.coverage)},
+      {"ate_rmse_m", JsonNumber(m.ate_rmse_m)},
+      {"keyframes", std::to_string(m.keyframes)},
+      {"loop_closures", std::to_string(m.loop_closures)},
+      {"collisions", std::to_string(m.collisions)},
+      {"goals_reached", std::to_string(m.goals_reached)},
+      {"goals_failed", std::to_string(m.goals_failed)},
+      {"done", m.done ? "true" : "false"},
+      {"time_to_90_coverage_s",
+       m.time_to_90_coverage_s ? JsonNumber(*m.time_to_90_coverage_s) : "null"},
+      {"end_reason", JsonString(m.end_reason)},
+      {"decisions", std::to_string(m.decisions)},
+      {"ate_max_m", JsonNumber(m.ate_max_m)},
+      {"ate_matched_keyframes", std::to_string(m.ate_matched)},
+      {"free_area_m2", JsonNumber(m.free_area_m2)},
+      {"map_occupied_precision", JsonNumber(m.occupied_precision)},
+      {"map_free_precision", JsonNumber(m.free_precision)},
+  };
+  std::string out = "{\n";
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    out += "  " + JsonString(fields[i].first) + ": " + fields[i].second;
+    out += i + 1 < fields.size() ? ",\n" : "\n";
+  }
+  return out + "}\n";
+}
+
+std::string CoverageToCsv(const std::vector<CoverageSample>& samples) {
+  std::string out = "t_s,coverage\n";
+  char buffer[64];
+  for (const CoverageSample& s : samples) {
+    std::snprintf(buffer, sizeof buffer, "%.3f,%.6f\n", s.t_s, s.coverage);
+    out += buffer;
+  }
+  return out;
+}
+
+std::optional<double> TimeToCoverage(const std::vector<CoverageSample>& samples, double fraction) {
+  for (const CoverageSample& s : samples) {
+    if (s.coverage >= fraction) return s.t_s;
+  }
+  return std::nullopt;
+}
+
+cv::Mat RenderRunImage(const ExploreResult& result, int scale) {
+  const OccupancyGrid& map = result.map;
+  if (map.empty()) return cv::Mat(1, 1, CV_8UC3, cv::Scalar(205, 205, 205));
+  const int w = map.width_cells();
+  const int h = map.height_cells();
+  if (scale <= 0) scale = std::clamp(2000 / std::max(w, h), 1, 4);
+  // map_saver's greys: free 254, occupied 0, unknown 205; in between by occupancy.
+  cv::Mat grey(h, w, CV_8UC1);
+  for (int row = 0; row < h; ++row) {
+    for (int col = 0; col < w; ++col) {
+      const int8_t v = map.at({col, row});
+      const uint8_t g = v < 0 ? 205 : static_cast<uint8_t>(254 - (254 * v) / 100);
+      grey.at<uint8_t>(h - 1 - row, col) = g;  // image row 0 is the map's top
+    }
+  }
+  cv::Mat image;
+  cv::cvtColor(grey, image, cv::COLOR_GRAY2BGR);
+  cv::resize(image, image, cv::Size(w * scale, h * scale), 0, 0, cv::INTER_NEAREST);
+
+  const double res = map.resolution_m();
+  const Point2d origin = map.origin_m();
+  constexpr int kShift = 4;  // sub-pixel bits for OpenCV's drawing
+  auto pixel = [&](double x_m, double y_m) {
+    const double px = (x_m - origin.x_m) / res * scale;
+    const double py = (h - (y_m - origin.y_m) / res) * scale;
+    return cv::Point(static_cast<int>(std::lround(px * (1 << kShift))),
+                     static_cast<int>(std::lround(py * (1 << kShift))));
+  };
+  const int thin = std::max(1, scale / 2);
+
+  for (std::size_t i = 1; i < result.slam_path.size(); ++i) {
+    const Pose2d& a = result.slam_path[i - 1];
+    const Pose2d& b = result.slam_path[i];
+    cv::line(image, pixel(a.x_m, a.y_m), pixel(b.x_m, b.y_m), cv::Scalar(255, 200, 120), thin + 2,
+             cv::LINE_AA, kShift);
+  }
+  const auto& nodes = result.graph.nodes;
+  for (const PoseGraphEdge& e : result.graph.edges) {
+    if (e.from_id < 0 || e.to_id < 0 || e.from_id >= static_cast<int>(nodes.size()) ||
+        e.to_id >= static_cast<int>(nodes.size())) {
+      continue;
+    }
+    const Pose2d& a = nodes[e.from_id].pose;
+    const Pose2d& b = nodes[e.to_id].pose;
+    const bool loop = e.kind == EdgeKind::kLoopClosure;
+    cv::line(image, pixel(a.x_m, a.y_m), pixel(b.x_m, b.y_m),
+             loop ? cv::Scalar(40, 40, 230) : cv::Scalar(180, 80, 0), loop ? thin + 1 : thin,
+             cv::LINE_AA, kShift);
+  }
+  for (const PoseGraphNode& n : nodes) {
+    cv::circle(image, pixel(n.pose.x_m, n.pose.y_m), (thin + 1) << kShift, cv::Scalar(120, 40, 0),
+               cv::FILLED, cv::LINE_AA, kShift);
+  }
+  for (const auto& frontier : result.frontiers_m) {
+    for (const Point2d& p : frontier) {
+      cv::circle(image, pixel(p.x_m, p.y_m), (thin + 1) << kShift, cv::Scalar(40, 170, 40), cv::FILLED,
+                 cv::LINE_AA, kShift);
+    }
+  }
+  if (!result.slam_path.empty() || !nodes.empty()) {
+    const Pose2d& end = result.slam_path.empty() ? nodes.back().pose : result.slam_path.back();
+    const double arrow_m = 0.5;
+    cv::circle(image, pixel(end.x_m, end.y_m), (3 * scale) << kShift, cv::Scalar(0, 140, 255), cv::FILLED,
+               cv::LINE_AA, kShift);
+    cv::line(image, pixel(end.x_m, end.y_m),
+             pixel(end.x_m + arrow_m * std::cos(end.yaw_rad), end.y_m + arrow_m * std::sin(end.yaw_rad)),
+             cv::Scalar(0, 140, 255), thin + 1, cv::LINE_AA, kShift);
+  }
+  return image;
+}
+
+void WriteRunFolder(const ExploreResult& result, const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw std::runtime_error("cannot create " + dir + ": " + error.message());
+  if (!result.map.empty()) SaveMap(result.map, dir + "/map");
+  const std::string png = dir + "/map.png";
+  if (!cv::imwrite(png, RenderRunImage(result))) throw std::runtime_error("cannot write " + png);
+  WriteG2o(result.graph, dir + "/graph.g2o");
+  WriteText(dir + "/coverage.csv", CoverageToCsv(result.coverage));
+  WriteText(dir + "/metrics.json", MetricsToJson(result.metrics));
+}
+
+}  // namespace aslam
