@@ -6,4 +6,4 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
-"$build/tests/record_decision_fixture" "$root/logs/decision_fixture.lcmlog" 40
+"$build/tests/record_fixture" decision "$root/logs/decision_fixture.lcmlog" 40
