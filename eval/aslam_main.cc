@@ -1,6 +1,7 @@
 // aslam: the product's command. `aslam explore` explores a world and leaves a
 // run folder behind (eval/run_outputs.h). --inproc hosts every node in this
-// process (eval/explore_runner.h); process mode needs procman.
+// process (eval/explore_runner.h); process mode (the default) runs them under
+// aslam-procman on a private LCM URL (eval/explore_process.h).
 
 #include <unistd.h>
 
@@ -8,12 +9,14 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gflags/gflags.h>
 
 #include "common/flags.h"
+#include "eval/explore_process.h"
 #include "eval/explore_runner.h"
 #include "eval/run_outputs.h"
 
@@ -26,6 +29,8 @@ DEFINE_bool(inproc, false, "every node in this process on memq://, as fast as th
 DEFINE_double(rate, 1.0, "real-time factor of process mode (--inproc always runs as fast as it can)");
 DEFINE_string(config, "", "config file (config/aslam.yaml layout); default: built-in defaults");
 DEFINE_string(out, "", "run folder to write (created)");
+DEFINE_string(lcm_url, "",
+              "process mode: LCM URL of the run (default: udpm://239.255.76.67:PORT?ttl=0, PORT from the pid)");
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
 
 namespace aslam {
@@ -33,7 +38,7 @@ namespace {
 
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
-    "              --seed N [--inproc] [--rate R] [--config FILE] --out DIR";
+    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR";
 
 std::atomic<bool> g_stop{false};
 
@@ -62,12 +67,6 @@ int Explore() {
     std::fprintf(stderr, "aslam explore: --seed and --rate must be >= 0, --duration > 0\n");
     return 2;
   }
-  if (!FLAGS_inproc) {
-    std::fprintf(stderr,
-                 "aslam explore: process mode needs procman (not built yet); "
-                 "run with --inproc to host every node in this process\n");
-    return 2;
-  }
   ExploreOptions options;
   options.world = FLAGS_world;
   options.method = FLAGS_method;
@@ -86,23 +85,49 @@ int Explore() {
   try {
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
-    std::printf("aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, in-process\n",
-                FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
-                FLAGS_duration);
-    std::fflush(stdout);
-    const ExploreResult result = RunExploreInProcess(options, &g_stop, [&](const ExploreProgress& p) {
+    const auto on_progress = [&](const ExploreProgress& p) {
       if (FLAGS_progress > 0) PrintProgress(p, terminal);
-    });
+    };
+    ExploreResult result;
+    if (FLAGS_inproc) {
+      std::printf("aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, in-process\n",
+                  FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
+                  FLAGS_duration);
+      std::fflush(stdout);
+      result = RunExploreInProcess(options, &g_stop, on_progress);
+    } else {
+      ExploreProcessOptions process;
+      process.explore = options;
+      process.rate = FLAGS_rate;
+      process.lcm_url = FLAGS_lcm_url.empty() ? PrivateLcmUrl(getpid()) : FLAGS_lcm_url;
+      process.out_dir = FLAGS_out;
+      std::printf("aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, processes at %gx "
+                  "real time on %s (logs in %s)\n",
+                  FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
+                  FLAGS_duration, FLAGS_rate, process.lcm_url.c_str(), FLAGS_out.c_str());
+      std::fflush(stdout);
+      result = RunExploreProcess(process, &g_stop, on_progress);
+    }
     if (terminal && FLAGS_progress > 0) std::printf("\n");
     WriteRunFolder(result, FLAGS_out);
+    if (!FLAGS_inproc) {
+      // metrics.json says which mode made it.
+      const std::string path = FLAGS_out + "/metrics.json";
+      std::ofstream(path, std::ios::binary | std::ios::trunc) << AddModeToMetricsJson(MetricsToJson(result.metrics), "process");
+    }
     const RunMetrics& m = result.metrics;
     std::printf("aslam explore: %s after %.1f s simulated (%.1f s wall): coverage %.1f %%, ATE RMSE "
                 "%.3f m, %d keyframes, %d loop closures, %lld collisions, goals %d reached %d failed\n",
                 m.end_reason.c_str(), m.sim_seconds, m.wall_seconds, 100.0 * m.coverage, m.ate_rmse_m,
                 m.keyframes, m.loop_closures, static_cast<long long>(m.collisions), m.goals_reached,
                 m.goals_failed);
-    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json}\n",
-                FLAGS_out.c_str());
+    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s}\n",
+                FLAGS_out.c_str(), FLAGS_inproc ? "" : ",run.lcmlog,config.yaml,NAME.log");
+    if (m.end_reason == "procman-exited") {
+      std::fprintf(stderr, "aslam explore: aslam-procman ended before the run did: see %s/procman.log and %s/sim.log\n",
+                   FLAGS_out.c_str(), FLAGS_out.c_str());
+      return 1;
+    }
     return m.end_reason == "interrupted" ? 130 : 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aslam explore: %s\n", e.what());

@@ -1,0 +1,517 @@
+#include "eval/explore_process.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "aslam/explore_goal_t.hpp"
+#include "aslam/explore_status_t.hpp"
+#include "aslam/frontier_list_t.hpp"
+#include "aslam/occupancy_grid_t.hpp"
+#include "aslam/pose_graph_t.hpp"
+#include "aslam/pose_t.hpp"
+#include "aslam/sim_status_t.hpp"
+#include "common/channels.h"
+#include "common/lcm_util.h"
+#include "common/types_lcm.h"
+#include "drivers/sim_config.h"
+#include "eval/run_outputs.h"
+#include "frontier/frontier_config.h"
+#include "frontier/frontier_lcm.h"
+#include "navigation/nav_config.h"
+#include "slam/slam_config.h"
+#include "slam/trajectory_eval.h"
+#include "utility/utility_config.h"
+#include "worlds/worldgen.h"
+
+#ifndef ASLAM_SOURCE_DIR
+#define ASLAM_SOURCE_DIR "."
+#endif
+
+namespace aslam {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr int64_t kTruthGap_us = 100000;
+
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// What the runner hears on the bus, for evaluation and the outputs only.
+class Listener {
+ public:
+  Listener(lcm::LCM& lcm, const OccupancyGrid& truth_map) : truth_map_(truth_map), subs_(lcm) {
+    subs_.Add<pose_t>(channels::kSimTruth, [this](const pose_t& m) {
+      const auto pose = FromLcm(m);
+      if (!pose) return false;
+      if (truth_.empty() || pose->utime > truth_.back().utime) truth_.push_back({pose->utime, pose->pose});
+      Heard(pose->utime);
+      return true;
+    });
+    subs_.Add<sim_status_t>(channels::kSimStatus, [this](const sim_status_t& m) {
+      collisions_ = m.collisions;
+      Heard(m.utime);
+      return true;
+    });
+    subs_.Add<pose_graph_t>(channels::kPoseGraph, [this](const pose_graph_t& m) {
+      auto graph = FromLcm(m);
+      if (!graph) return false;
+      graph_ = std::move(*graph);
+      loop_closures_ = m.loop_closures_accepted;
+      return true;
+    });
+    subs_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) {
+      const auto pose = FromLcm(m);
+      if (!pose || graph_.nodes.empty()) return pose.has_value();
+      const PoseGraphNode& anchor = graph_.nodes.back();
+      const Pose2d offset = anchor.pose.Between(pose->pose);
+      if (!path_.empty() && path_.back().node == anchor.id &&
+          std::hypot(offset.x_m - path_.back().offset.x_m, offset.y_m - path_.back().offset.y_m) < 0.05) {
+        return true;
+      }
+      path_.push_back({anchor.id, offset});
+      return true;
+    });
+    subs_.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
+      auto grid = FromLcm(m);
+      if (!grid) return false;
+      map_ = std::move(*grid);
+      coverage_stale_ = true;
+      return true;
+    });
+    subs_.Add<frontier_list_t>(channels::kFrontiers, [this](const frontier_list_t& m) {
+      auto list = FromLcm(m);
+      if (!list) return false;
+      frontiers_ = std::move(*list);
+      return true;
+    });
+    subs_.Add<explore_status_t>(channels::kExploreStatus, [this](const explore_status_t& m) {
+      status_ = m;
+      if (m.state == explore_status_t::STATE_DONE) done_ = true;
+      return true;
+    });
+    subs_.Add<explore_goal_t>(channels::kExploreGoal, [this](const explore_goal_t& m) {
+      goal_ = m;
+      return true;
+    });
+  }
+
+  std::optional<Pose2d> MapInWorld() {
+    if (!map_in_world_ && !graph_.nodes.empty()) {
+      map_in_world_ = PoseAt(truth_, graph_.nodes.front().utime, kTruthGap_us);
+    }
+    return map_in_world_;
+  }
+
+  MapAgreement Agreement(const OccupancyGrid& map) {
+    const auto map_in_world = MapInWorld();
+    if (!map_in_world || map.empty()) return {};
+    return ComputeMapAgreement(map, *map_in_world, truth_map_);
+  }
+
+  double coverage() {
+    if (coverage_stale_ && map_ && MapInWorld()) {
+      coverage_ = Agreement(*map_).coverage;
+      coverage_stale_ = false;
+    }
+    return coverage_;
+  }
+
+  std::vector<Pose2d> Path(const PoseGraph& graph) const {
+    std::vector<Pose2d> path;
+    for (const PathPoint& p : path_) {
+      if (p.node >= 0 && p.node < static_cast<int>(graph.nodes.size())) {
+        path.push_back(graph.nodes[p.node].pose.Compose(p.offset));
+      }
+    }
+    return path;
+  }
+
+  bool heard_sim() const { return heard_sim_; }
+  int64_t sim_utime() const { return sim_utime_; }
+  const std::vector<TimedPose>& truth() const { return truth_; }
+  const PoseGraph& graph() const { return graph_; }
+  const std::optional<OccupancyGrid>& map() const { return map_; }
+  const FrontierList& frontiers() const { return frontiers_; }
+  const std::optional<explore_status_t>& status() const { return status_; }
+  const std::optional<explore_goal_t>& goal() const { return goal_; }
+  int loop_closures() const { return loop_closures_; }
+  int64_t collisions() const { return collisions_; }
+  bool done() const { return done_; }
+
+ private:
+  struct PathPoint {
+    int node = 0;
+    Pose2d offset;
+  };
+  void Heard(int64_t utime) {
+    heard_sim_ = true;
+    sim_utime_ = std::max(sim_utime_, utime);
+  }
+
+  const OccupancyGrid& truth_map_;
+  Subscriptions subs_;
+  bool heard_sim_ = false;
+  int64_t sim_utime_ = 0;
+  std::vector<TimedPose> truth_;
+  std::optional<Pose2d> map_in_world_;
+  PoseGraph graph_;
+  std::vector<PathPoint> path_;
+  std::optional<OccupancyGrid> map_;
+  bool coverage_stale_ = false;
+  double coverage_ = 0.0;
+  FrontierList frontiers_;
+  std::optional<explore_status_t> status_;
+  std::optional<explore_goal_t> goal_;
+  int loop_closures_ = 0;
+  int64_t collisions_ = 0;
+  bool done_ = false;
+};
+
+std::string StateName(const std::optional<explore_status_t>& status) {
+  if (!status) return "waiting";
+  switch (status->state) {
+    case explore_status_t::STATE_EXPLORING: return "exploring";
+    case explore_status_t::STATE_DONE: return "done";
+    default: return "waiting";
+  }
+}
+
+std::string Number(double value) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+std::string Absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+// The config the nodes read: the given one (or none) with utility.method set.
+std::string WriteNodeConfig(const std::string& config_file, const std::string& method, const std::string& out_dir) {
+  YAML::Node root = config_file.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::LoadFile(config_file);
+  if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
+  root["utility"]["method"] = method;
+  const std::string path = out_dir + "/config.yaml";
+  std::ofstream out(path);
+  out << "# written by aslam explore from " << (config_file.empty() ? "built-in defaults" : config_file)
+      << ", utility.method set to " << method << "\n"
+      << root << "\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+// A --start other than the world's: OUT/world.yaml, the world's (or a bare
+// map's) with that start and the map by absolute path. The launch config
+// passes no --start (procman's --vars is comma-separated, a pose is X,Y,YAW).
+std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start, const std::string& out_dir) {
+  YAML::Node root = world.world_yaml_path.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::LoadFile(world.world_yaml_path);
+  if (world.world_yaml_path.empty()) root["name"] = fs::path(world.map_yaml_path).stem().string();
+  root["map"] = Absolute(world.map_yaml_path);
+  YAML::Node pose(YAML::NodeType::Map);
+  pose["x_m"] = start.x_m;
+  pose["y_m"] = start.y_m;
+  pose["yaw_rad"] = start.yaw_rad;
+  pose.SetStyle(YAML::EmitterStyle::Flow);
+  root["start"] = pose;
+  const std::string path = out_dir + "/world.yaml";
+  std::ofstream out(path);
+  out << "# written by aslam explore: " << (world.world_yaml_path.empty() ? world.map_yaml_path : world.world_yaml_path)
+      << " with its --start\n"
+      << root << "\n";
+  out.close();
+  if (!out) throw std::runtime_error("cannot write " + path);
+  (void)LoadWorld(path);
+  return path;
+}
+
+// Forks and execs the deputy, its output into OUT/procman.log. The deputy gets
+// its own process group (a terminal's Ctrl-C reaches only this runner, which
+// stops it in order) and SIGTERM should this runner die first.
+pid_t SpawnDeputy(const std::vector<std::string>& argv, const std::string& log_path) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (log_fd < 0) throw std::runtime_error("cannot write " + log_path + ": " + std::strerror(errno));
+  const pid_t parent = getpid();
+  int exec_pipe[2];
+  if (pipe2(exec_pipe, O_CLOEXEC) != 0) {
+    close(log_fd);
+    throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  }
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(log_fd);
+    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  }
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(127);
+    setpgid(0, 0);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    const int null_fd = open("/dev/null", O_RDONLY);
+    if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
+    dup2(log_fd, STDOUT_FILENO);
+    dup2(log_fd, STDERR_FILENO);
+    // Nothing of the runner's (its LCM sockets) leaks into procman's children.
+    for (int fd = 3; fd < 1024; ++fd) {
+      if (fd != exec_pipe[1]) close(fd);
+    }
+    execv(args[0], args.data());
+    const int e = errno;
+    (void)!write(exec_pipe[1], &e, sizeof e);
+    _exit(127);
+  }
+  close(log_fd);
+  close(exec_pipe[1]);
+  int child_errno = 0;
+  const ssize_t n = read(exec_pipe[0], &child_errno, sizeof child_errno);
+  close(exec_pipe[0]);
+  if (n == static_cast<ssize_t>(sizeof child_errno)) {
+    waitpid(pid, nullptr, 0);
+    throw std::runtime_error("cannot run " + argv[0] + ": " + std::strerror(child_errno));
+  }
+  return pid;
+}
+
+}  // namespace
+
+std::string PrivateLcmUrl(int pid) {
+  return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) + "?ttl=0";
+}
+
+std::string AddModeToMetricsJson(const std::string& json, const std::string& mode) {
+  const std::size_t end = json.rfind("\n}");
+  if (end == std::string::npos) return json;
+  return json.substr(0, end) + ",\n  \"mode\": \"" + mode + "\"" + json.substr(end);
+}
+
+ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std::atomic<bool>* stop,
+                                const std::function<void(const ExploreProgress&)>& on_progress) {
+  const ExploreOptions& ex = options.explore;
+  const auto method = ParseUtilityMethod(ex.method);
+  if (!method) throw std::invalid_argument("--method '" + ex.method + "': expected fd, ags or ours");
+  if (!(ex.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  if (!(options.rate >= 0)) throw std::invalid_argument("--rate must be >= 0");
+  if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
+
+  // Every option is validated here, before any process starts (DESIGN §7.4).
+  (void)LoadSimulatorOptionsFromFile(ex.config_file);
+  (void)LoadSlamConfigFromFile(ex.config_file);
+  (void)LoadFrontierOptionsFromFile(ex.config_file);
+  (void)LoadUtilityOptionsFromFile(ex.config_file);
+  (void)LoadNavOptionsFromFile(ex.config_file);
+  const WorldInfo world = LoadWorld(ex.world);
+  Pose2d start = world.start;
+  if (ex.start) {
+    start = *ex.start;
+    const CellIndex cell = world.map.grid.WorldToCell({start.x_m, start.y_m});
+    if (world.map.grid.ValueOr(cell, OccupancyGrid::kOccupied) != OccupancyGrid::kFree) {
+      throw std::invalid_argument("--start: not on a free cell of " + world.map_yaml_path);
+    }
+  } else if (!world.has_start) {
+    throw std::invalid_argument(ex.world + " has no world.yaml with a start: pass --start X,Y,YAW");
+  }
+
+  const std::string out = Absolute(options.out_dir);
+  std::error_code error;
+  fs::create_directories(out, error);
+  if (error) throw std::runtime_error("cannot create " + out + ": " + error.message());
+  const std::string node_config = WriteNodeConfig(ex.config_file, UtilityMethodName(*method), out);
+  (void)LoadUtilityOptionsFromFile(node_config);
+
+  std::string build = options.build_dir;
+  if (build.empty()) {
+    const fs::path self = fs::read_symlink("/proc/self/exe", error);
+    build = error ? "." : self.parent_path().parent_path().string();
+  }
+  build = Absolute(build);
+  const std::string procman = build + "/procman/aslam-procman";
+  const std::string launch =
+      options.launch_file.empty() ? std::string(ASLAM_SOURCE_DIR) + "/config/launch/explore.yaml" : options.launch_file;
+  const std::string url = options.lcm_url.empty() ? PrivateLcmUrl(getpid()) : options.lcm_url;
+
+  const std::vector<std::pair<std::string, std::string>> vars = {
+      {"WORLD", ex.start ? WriteWorldWithStart(world, start, out) : Absolute(ex.world)},
+      {"CONFIG", node_config},
+      {"METHOD", UtilityMethodName(*method)},
+      {"DURATION", Number(ex.duration_s)},
+      {"SEED", std::to_string(ex.seed)},
+      {"RATE", Number(options.rate)},
+      {"BUILD", build},
+  };
+  std::string vars_text;
+  for (const auto& [key, value] : vars) {
+    if (value.find(',') != std::string::npos) {
+      throw std::invalid_argument(key + " '" + value + "': procman --vars cannot hold a comma");
+    }
+    vars_text += (vars_text.empty() ? "" : ",") + key + "=" + value;
+  }
+
+  // Listen first, so nothing the simulator says is missed.
+  const auto lcm = OpenLcm(url);
+  Listener listener(*lcm, world.map.grid);
+
+  const Clock::time_point wall_start = Clock::now();
+  pid_t deputy = SpawnDeputy({procman, "deputy", "--config", launch, "--log-dir", out, "--lcm-url", url, "--vars",
+                              vars_text, "--exit-when", "sim"},
+                             out + "/procman.log");
+  int deputy_status = 0;
+  auto deputy_alive = [&] {
+    if (deputy <= 0) return false;
+    if (waitpid(deputy, &deputy_status, WNOHANG) == deputy) {
+      deputy = -1;
+      return false;
+    }
+    return true;
+  };
+
+  ExploreResult result;
+  const int64_t end_us = std::llround(ex.duration_s * 1e6);
+  const int64_t progress_us = std::llround(ex.progress_period_s * 1e6);
+  int64_t next_sample_us = 1'000'000;
+  int64_t next_progress_us = progress_us;
+  bool interrupted = false;
+  bool deputy_ended = false;
+  std::string failure;
+
+  auto progress = [&] {
+    ExploreProgress p;
+    p.sim_s = listener.sim_utime() * 1e-6;
+    p.wall_s = Since(wall_start);
+    p.coverage = listener.coverage();
+    p.keyframes = static_cast<int>(listener.graph().nodes.size());
+    p.loop_closures = listener.loop_closures();
+    p.frontiers = static_cast<int>(listener.frontiers().frontiers.size());
+    if (const auto& s = listener.status()) {
+      p.goal_id = s->current_goal_id;
+      p.goals_reached = s->goals_reached;
+      p.goals_failed = s->goals_failed;
+    }
+    if (const auto& g = listener.goal(); g && !g->cancel && g->goal_id == p.goal_id) p.goal_m = {g->x_m, g->y_m};
+    p.collisions = listener.collisions();
+    p.state = StateName(listener.status());
+    return p;
+  };
+
+  while (true) {
+    lcm->handleTimeout(20);
+    const int64_t now_us = listener.sim_utime();
+    while (listener.heard_sim() && now_us >= next_sample_us) {
+      result.coverage.push_back({next_sample_us * 1e-6, listener.coverage()});
+      next_sample_us += 1'000'000;
+    }
+    if (on_progress && progress_us > 0 && now_us >= next_progress_us) {
+      on_progress(progress());
+      while (next_progress_us <= now_us) next_progress_us += progress_us;
+    }
+    if (listener.done() || now_us >= end_us) break;
+    if (stop && stop->load()) {
+      interrupted = true;
+      break;
+    }
+    if (!deputy_alive()) {
+      deputy_ended = true;
+      break;
+    }
+    if (!listener.heard_sim() && Since(wall_start) > options.startup_timeout_s) {
+      failure = "nothing heard from the simulator on " + url + " within " + Number(options.startup_timeout_s) +
+                " s: see " + out + "/procman.log and " + out + "/sim.log";
+      break;
+    }
+  }
+
+  // Stop the deputy (it stops its processes, lcm-logger last), still listening meanwhile.
+  if (deputy_alive()) {
+    kill(deputy, SIGTERM);
+    const Clock::time_point term = Clock::now();
+    while (deputy_alive()) {
+      lcm->handleTimeout(20);
+      if (Since(term) > options.stop_timeout_s) {
+        kill(deputy, SIGKILL);
+        waitpid(deputy, &deputy_status, 0);
+        deputy = -1;
+        std::fprintf(stderr, "aslam explore: procman did not stop within %.0f s, killed\n", options.stop_timeout_s);
+        break;
+      }
+    }
+  }
+  while (lcm->handleTimeout(0) > 0) {
+  }
+  const double wall_s = Since(wall_start);
+  if (!failure.empty()) throw std::runtime_error(failure);
+  const bool deputy_failed = !(WIFEXITED(deputy_status) && WEXITSTATUS(deputy_status) == 0);
+  if (deputy_failed) {
+    std::fprintf(stderr, "aslam explore: aslam-procman %s %d (see %s/procman.log)\n",
+                 WIFEXITED(deputy_status) ? "exited with" : "killed by signal",
+                 WIFEXITED(deputy_status) ? WEXITSTATUS(deputy_status) : WTERMSIG(deputy_status), out.c_str());
+  }
+
+  if (listener.map()) result.map = *listener.map();
+  result.graph = listener.graph();
+  if (const auto map_in_world = listener.MapInWorld()) result.map_in_world = *map_in_world;
+  const MapAgreement agreement = listener.Agreement(result.map);
+  const double sim_s = listener.sim_utime() * 1e-6;
+  if (!result.coverage.empty() && result.coverage.back().t_s >= sim_s) result.coverage.pop_back();
+  result.coverage.push_back({sim_s, agreement.coverage});
+  result.slam_path = listener.Path(result.graph);
+  for (const Frontier& f : listener.frontiers().frontiers) result.frontiers_m.push_back(f.points_m);
+
+  RunMetrics& m = result.metrics;
+  m.world = ex.world;
+  m.method = UtilityMethodName(*method);
+  m.seed = ex.seed;
+  m.sim_seconds = sim_s;
+  m.wall_seconds = wall_s;
+  m.coverage = agreement.coverage;
+  m.occupied_precision = agreement.occupied_precision;
+  m.free_precision = agreement.free_precision;
+  const double cell_area_m2 = world.map.grid.resolution_m() * world.map.grid.resolution_m();
+  m.free_area_m2 = agreement.truth_free_cells > 0 ? agreement.truth_free_cells * cell_area_m2
+                                                  : world.map.grid.CountCells().free * cell_area_m2;
+  const AteResult ate = ComputeAte(KeyframePoses(result.graph), listener.truth());
+  m.ate_rmse_m = ate.rmse_m;
+  m.ate_max_m = ate.max_m;
+  m.ate_matched = ate.matched;
+  m.keyframes = static_cast<int>(result.graph.nodes.size());
+  m.loop_closures = 0;
+  for (const PoseGraphEdge& e : result.graph.edges) m.loop_closures += e.kind == EdgeKind::kLoopClosure;
+  m.collisions = listener.collisions();
+  if (const auto& s = listener.status()) {
+    m.goals_reached = s->goals_reached;
+    m.goals_failed = s->goals_failed;
+    m.decisions = s->decisions;
+  }
+  m.done = listener.done();
+  m.end_reason = m.done                                          ? "done"
+                 : interrupted                                   ? "interrupted"
+                 : sim_s >= ex.duration_s - 1.0 || !deputy_ended ? "duration"
+                                                                 : "procman-exited";
+  m.time_to_90_coverage_s = TimeToCoverage(result.coverage, 0.9);
+  if (on_progress) {
+    ExploreProgress p = progress();
+    p.coverage = m.coverage;
+    p.keyframes = m.keyframes;
+    p.loop_closures = m.loop_closures;
+    p.wall_s = wall_s;
+    on_progress(p);
+  }
+  return result;
+}
+
+}  // namespace aslam
