@@ -29,6 +29,7 @@
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
 #include "drivers/sim_config.h"
+#include "eval/run_listener.h"
 #include "eval/run_outputs.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_lcm.h"
@@ -48,149 +49,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr int64_t kTruthGap_us = 100000;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// What the runner hears on the bus, for evaluation and the outputs only.
-class Listener {
- public:
-  Listener(lcm::LCM& lcm, const OccupancyGrid& truth_map) : truth_map_(truth_map), subs_(lcm) {
-    subs_.Add<pose_t>(channels::kSimTruth, [this](const pose_t& m) {
-      const auto pose = FromLcm(m);
-      if (!pose) return false;
-      if (truth_.empty() || pose->utime > truth_.back().utime) truth_.push_back({pose->utime, pose->pose});
-      Heard(pose->utime);
-      return true;
-    });
-    subs_.Add<sim_status_t>(channels::kSimStatus, [this](const sim_status_t& m) {
-      collisions_ = m.collisions;
-      Heard(m.utime);
-      return true;
-    });
-    subs_.Add<pose_graph_t>(channels::kPoseGraph, [this](const pose_graph_t& m) {
-      auto graph = FromLcm(m);
-      if (!graph) return false;
-      graph_ = std::move(*graph);
-      loop_closures_ = m.loop_closures_accepted;
-      return true;
-    });
-    subs_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) {
-      const auto pose = FromLcm(m);
-      if (!pose || graph_.nodes.empty()) return pose.has_value();
-      const PoseGraphNode& anchor = graph_.nodes.back();
-      const Pose2d offset = anchor.pose.Between(pose->pose);
-      if (!path_.empty() && path_.back().node == anchor.id &&
-          std::hypot(offset.x_m - path_.back().offset.x_m, offset.y_m - path_.back().offset.y_m) < 0.05) {
-        return true;
-      }
-      path_.push_back({anchor.id, offset});
-      return true;
-    });
-    subs_.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
-      auto grid = FromLcm(m);
-      if (!grid) return false;
-      map_ = std::move(*grid);
-      coverage_stale_ = true;
-      return true;
-    });
-    subs_.Add<frontier_list_t>(channels::kFrontiers, [this](const frontier_list_t& m) {
-      auto list = FromLcm(m);
-      if (!list) return false;
-      frontiers_ = std::move(*list);
-      return true;
-    });
-    subs_.Add<explore_status_t>(channels::kExploreStatus, [this](const explore_status_t& m) {
-      status_ = m;
-      if (m.state == explore_status_t::STATE_DONE) done_ = true;
-      return true;
-    });
-    subs_.Add<explore_goal_t>(channels::kExploreGoal, [this](const explore_goal_t& m) {
-      goal_ = m;
-      return true;
-    });
-  }
-
-  std::optional<Pose2d> MapInWorld() {
-    if (!map_in_world_ && !graph_.nodes.empty()) {
-      map_in_world_ = PoseAt(truth_, graph_.nodes.front().utime, kTruthGap_us);
-    }
-    return map_in_world_;
-  }
-
-  MapAgreement Agreement(const OccupancyGrid& map) {
-    const auto map_in_world = MapInWorld();
-    if (!map_in_world || map.empty()) return {};
-    return ComputeMapAgreement(map, *map_in_world, truth_map_);
-  }
-
-  double coverage() {
-    if (coverage_stale_ && map_ && MapInWorld()) {
-      coverage_ = Agreement(*map_).coverage;
-      coverage_stale_ = false;
-    }
-    return coverage_;
-  }
-
-  std::vector<Pose2d> Path(const PoseGraph& graph) const {
-    std::vector<Pose2d> path;
-    for (const PathPoint& p : path_) {
-      if (p.node >= 0 && p.node < static_cast<int>(graph.nodes.size())) {
-        path.push_back(graph.nodes[p.node].pose.Compose(p.offset));
-      }
-    }
-    return path;
-  }
-
-  bool heard_sim() const { return heard_sim_; }
-  int64_t sim_utime() const { return sim_utime_; }
-  const std::vector<TimedPose>& truth() const { return truth_; }
-  const PoseGraph& graph() const { return graph_; }
-  const std::optional<OccupancyGrid>& map() const { return map_; }
-  const FrontierList& frontiers() const { return frontiers_; }
-  const std::optional<explore_status_t>& status() const { return status_; }
-  const std::optional<explore_goal_t>& goal() const { return goal_; }
-  int loop_closures() const { return loop_closures_; }
-  int64_t collisions() const { return collisions_; }
-  bool done() const { return done_; }
-
- private:
-  struct PathPoint {
-    int node = 0;
-    Pose2d offset;
-  };
-  void Heard(int64_t utime) {
-    heard_sim_ = true;
-    sim_utime_ = std::max(sim_utime_, utime);
-  }
-
-  const OccupancyGrid& truth_map_;
-  Subscriptions subs_;
-  bool heard_sim_ = false;
-  int64_t sim_utime_ = 0;
-  std::vector<TimedPose> truth_;
-  std::optional<Pose2d> map_in_world_;
-  PoseGraph graph_;
-  std::vector<PathPoint> path_;
-  std::optional<OccupancyGrid> map_;
-  bool coverage_stale_ = false;
-  double coverage_ = 0.0;
-  FrontierList frontiers_;
-  std::optional<explore_status_t> status_;
-  std::optional<explore_goal_t> goal_;
-  int loop_closures_ = 0;
-  int64_t collisions_ = 0;
-  bool done_ = false;
-};
-
-std::string StateName(const std::optional<explore_status_t>& status) {
-  if (!status) return "waiting";
-  switch (status->state) {
-    case explore_status_t::STATE_EXPLORING: return "exploring";
-    case explore_status_t::STATE_DONE: return "done";
-    default: return "waiting";
-  }
-}
 
 std::string Number(double value) {
   char buffer[40];
@@ -317,16 +177,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   (void)LoadUtilityOptionsFromFile(ex.config_file);
   (void)LoadNavOptionsFromFile(ex.config_file);
   const WorldInfo world = LoadWorld(ex.world);
-  Pose2d start = world.start;
-  if (ex.start) {
-    start = *ex.start;
-    const CellIndex cell = world.map.grid.WorldToCell({start.x_m, start.y_m});
-    if (world.map.grid.ValueOr(cell, OccupancyGrid::kOccupied) != OccupancyGrid::kFree) {
-      throw std::invalid_argument("--start: not on a free cell of " + world.map_yaml_path);
-    }
-  } else if (!world.has_start) {
-    throw std::invalid_argument(ex.world + " has no world.yaml with a start: pass --start X,Y,YAW");
-  }
+  const Pose2d start = ResolveStart(world, ex);
 
   const std::string out = Absolute(options.out_dir);
   std::error_code error;
@@ -365,7 +216,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
 
   // Listen first, so nothing the simulator says is missed.
   const auto lcm = OpenLcm(url);
-  Listener listener(*lcm, world.map.grid);
+  RunListener listener(*lcm, world.map.grid);
 
   const Clock::time_point wall_start = Clock::now();
   pid_t deputy = SpawnDeputy({procman, "deputy", "--config", launch, "--log-dir", out, "--lcm-url", url, "--vars",
@@ -390,24 +241,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   bool deputy_ended = false;
   std::string failure;
 
-  auto progress = [&] {
-    ExploreProgress p;
-    p.sim_s = listener.sim_utime() * 1e-6;
-    p.wall_s = Since(wall_start);
-    p.coverage = listener.coverage();
-    p.keyframes = static_cast<int>(listener.graph().nodes.size());
-    p.loop_closures = listener.loop_closures();
-    p.frontiers = static_cast<int>(listener.frontiers().frontiers.size());
-    if (const auto& s = listener.status()) {
-      p.goal_id = s->current_goal_id;
-      p.goals_reached = s->goals_reached;
-      p.goals_failed = s->goals_failed;
-    }
-    if (const auto& g = listener.goal(); g && !g->cancel && g->goal_id == p.goal_id) p.goal_m = {g->x_m, g->y_m};
-    p.collisions = listener.collisions();
-    p.state = StateName(listener.status());
-    return p;
-  };
+  auto progress = [&] { return listener.Progress(listener.sim_utime() * 1e-6, Since(wall_start)); };
 
   while (true) {
     lcm->handleTimeout(20);
@@ -464,45 +298,19 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
 
   if (listener.map()) result.map = *listener.map();
   result.graph = listener.graph();
-  if (const auto map_in_world = listener.MapInWorld()) result.map_in_world = *map_in_world;
-  const MapAgreement agreement = listener.Agreement(result.map);
   const double sim_s = listener.sim_utime() * 1e-6;
-  if (!result.coverage.empty() && result.coverage.back().t_s >= sim_s) result.coverage.pop_back();
-  result.coverage.push_back({sim_s, agreement.coverage});
-  result.slam_path = listener.Path(result.graph);
-  for (const Frontier& f : listener.frontiers().frontiers) result.frontiers_m.push_back(f.points_m);
-
+  FinishResult(listener, world, ex, UtilityMethodName(*method), sim_s, wall_s, &result);
   RunMetrics& m = result.metrics;
-  m.world = ex.world;
-  m.method = UtilityMethodName(*method);
-  m.seed = ex.seed;
-  m.sim_seconds = sim_s;
-  m.wall_seconds = wall_s;
-  m.coverage = agreement.coverage;
-  m.occupied_precision = agreement.occupied_precision;
-  m.free_precision = agreement.free_precision;
-  const double cell_area_m2 = world.map.grid.resolution_m() * world.map.grid.resolution_m();
-  m.free_area_m2 = agreement.truth_free_cells > 0 ? agreement.truth_free_cells * cell_area_m2
-                                                  : world.map.grid.CountCells().free * cell_area_m2;
-  const AteResult ate = ComputeAte(KeyframePoses(result.graph), listener.truth());
-  m.ate_rmse_m = ate.rmse_m;
-  m.ate_max_m = ate.max_m;
-  m.ate_matched = ate.matched;
-  m.keyframes = static_cast<int>(result.graph.nodes.size());
-  m.loop_closures = 0;
-  for (const PoseGraphEdge& e : result.graph.edges) m.loop_closures += e.kind == EdgeKind::kLoopClosure;
   m.collisions = listener.collisions();
   if (const auto& s = listener.status()) {
     m.goals_reached = s->goals_reached;
     m.goals_failed = s->goals_failed;
     m.decisions = s->decisions;
   }
-  m.done = listener.done();
   m.end_reason = m.done                                          ? "done"
                  : interrupted                                   ? "interrupted"
                  : sim_s >= ex.duration_s - 1.0 || !deputy_ended ? "duration"
                                                                  : "procman-exited";
-  m.time_to_90_coverage_s = TimeToCoverage(result.coverage, 0.9);
   if (on_progress) {
     ExploreProgress p = progress();
     p.coverage = m.coverage;

@@ -1,0 +1,87 @@
+#pragma once
+
+// What an exploration runner hears on the bus, in either hosting: the
+// simulator's truth and collisions (for evaluation only: DESIGN §3), the
+// SLAM graph, pose and map, the frontiers, and the utility's status and goal;
+// and what both runners compute from it at the end.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "aslam/explore_goal_t.hpp"
+#include "aslam/explore_status_t.hpp"
+#include "common/lcm_util.h"
+#include "common/occupancy_grid.h"
+#include "common/pose_graph.h"
+#include "eval/explore_runner.h"
+#include "frontier/frontier.h"
+#include "slam/trajectory_eval.h"
+#include "worlds/worldgen.h"
+
+namespace aslam {
+
+class RunListener {
+ public:
+  RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map);
+
+  // The SLAM map placed in the world by the true pose of the first keyframe.
+  std::optional<Pose2d> MapInWorld();
+  MapAgreement Agreement(const OccupancyGrid& map);
+  // Coverage of the newest SLAM_MAP, evaluated when asked rather than for
+  // every map: it costs a pass over both grids.
+  double coverage();
+  // SLAM_POSE re-anchored to `graph`'s keyframes.
+  std::vector<Pose2d> Path(const PoseGraph& graph) const;
+  ExploreProgress Progress(double sim_s, double wall_s);
+
+  bool heard_sim() const { return heard_sim_; }
+  int64_t sim_utime() const { return sim_utime_; }
+  const std::vector<TimedPose>& truth() const { return truth_; }
+  const PoseGraph& graph() const { return graph_; }
+  const std::optional<OccupancyGrid>& map() const { return map_; }
+  const FrontierList& frontiers() const { return frontiers_; }
+  const std::optional<explore_status_t>& status() const { return status_; }
+  int loop_closures() const { return loop_closures_; }
+  int64_t collisions() const { return collisions_; }
+  bool done() const { return done_; }
+
+ private:
+  struct PathPoint {
+    int node = 0;
+    Pose2d offset;  // SLAM pose in the frame of keyframe `node`
+  };
+  void Heard(int64_t utime);
+
+  const OccupancyGrid& truth_map_;
+  Subscriptions subscriptions_;
+  bool heard_sim_ = false;
+  int64_t sim_utime_ = 0;
+  std::vector<TimedPose> truth_;
+  std::optional<Pose2d> map_in_world_;
+  PoseGraph graph_;
+  std::vector<PathPoint> path_;
+  std::optional<OccupancyGrid> map_;
+  bool coverage_stale_ = false;
+  double coverage_ = 0.0;
+  FrontierList frontiers_;
+  std::optional<explore_status_t> status_;
+  std::optional<explore_goal_t> goal_;
+  int loop_closures_ = 0;
+  int64_t collisions_ = 0;
+  bool done_ = false;
+};
+
+// The start pose of a run: --start if given (it must lie on a free cell),
+// else the world's. Throws std::invalid_argument naming the problem.
+Pose2d ResolveStart(const WorldInfo& world, const ExploreOptions& options);
+
+// Fills what both hostings compute alike from the final `result->map` and
+// `result->graph`: the final coverage sample, path, frontiers and the metrics
+// of map, graph and time (not collisions, goals or the end reason).
+void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOptions& options,
+                  const std::string& method, double sim_s, double wall_s, ExploreResult* result);
+
+}  // namespace aslam
