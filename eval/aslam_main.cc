@@ -1,7 +1,10 @@
 // aslam: the product's command. `aslam explore` explores a world and leaves a
 // run folder behind (eval/run_outputs.h). --inproc hosts every node in this
 // process (eval/explore_runner.h); process mode (the default) runs them under
-// aslam-procman on a private LCM URL (eval/explore_process.h).
+// aslam-procman on a private LCM URL (eval/explore_process.h). `aslam bench`
+// runs the paper's experiment matrix and writes its tables and figures
+// (eval/bench.h); `aslam log-stats` reads a run's lcm log for CPU and
+// latency figures (eval/log_stats.h).
 
 #include <unistd.h>
 
@@ -10,14 +13,18 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <sstream>
+#include <thread>
 #include <string>
 #include <vector>
 
 #include <gflags/gflags.h>
 
 #include "common/flags.h"
+#include "eval/bench.h"
 #include "eval/explore_process.h"
 #include "eval/explore_runner.h"
+#include "eval/log_stats.h"
 #include "eval/run_outputs.h"
 
 DEFINE_string(world, "", "world folder (map.yaml + world.yaml) or a map_server MAP.yaml");
@@ -32,13 +39,21 @@ DEFINE_string(out, "", "run folder to write (created)");
 DEFINE_string(lcm_url, "",
               "process mode: LCM URL of the run (default: udpm://239.255.76.67:PORT?ttl=0, PORT from the pid)");
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
+DEFINE_string(worlds, "office,campus", "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
+DEFINE_string(methods, "fd,ags,ours", "bench: comma-separated methods");
+DEFINE_int32(seeds, 15, "bench: seeds 1..N per world and method");
+DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
+DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
 
 namespace aslam {
 namespace {
 
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
-    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR";
+    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR\n"
+    "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
+    "            [--start X,Y,YAW] [--config FILE] [--noplots] --out DIR\n"
+    "aslam log-stats RUN/run.lcmlog";
 
 std::atomic<bool> g_stop{false};
 
@@ -135,15 +150,113 @@ int Explore() {
   }
 }
 
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+std::string Clock(double seconds) {
+  if (seconds < 0) return "--:--:--";
+  const long s = std::lround(seconds);
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buffer;
+}
+
+void PrintBenchProgress(const BenchProgress& p, bool terminal) {
+  const int done = p.skipped + p.finished + p.failed;
+  constexpr int kWidth = 30;
+  const int filled = p.total > 0 ? done * kWidth / p.total : 0;
+  std::printf("%s[%s%s] %d/%d runs (%d skipped, %d failed, %d running)  elapsed %s  ETA %s%s",
+              terminal ? "\r" : "", std::string(filled, '#').c_str(), std::string(kWidth - filled, '.').c_str(), done,
+              p.total, p.skipped, p.failed, p.running, Clock(p.elapsed_s).c_str(), Clock(p.eta_s).c_str(),
+              terminal ? "\033[K" : "\n");
+  std::fflush(stdout);
+}
+
+int Bench() {
+  BenchOptions options;
+  options.worlds = SplitList(FLAGS_worlds);
+  options.methods = SplitList(FLAGS_methods);
+  options.seeds = FLAGS_seeds;
+  options.duration_s = FLAGS_duration;
+  options.jobs = FLAGS_jobs > 0 ? FLAGS_jobs : std::max(1u, std::thread::hardware_concurrency());
+  options.config_file = FLAGS_config;
+  options.out_dir = FLAGS_out;
+  options.plots = FLAGS_plots;
+  char self[4096];
+  const ssize_t length = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (length <= 0) {
+    std::fprintf(stderr, "aslam bench: cannot find its own executable (/proc/self/exe)\n");
+    return 1;
+  }
+  options.aslam_binary.assign(self, length);
+  if (!FLAGS_start.empty()) {
+    options.start = ParsePose(FLAGS_start);
+    if (!options.start) {
+      std::fprintf(stderr, "aslam bench: --start '%s': expected X,Y,YAW\n", FLAGS_start.c_str());
+      return 2;
+    }
+  }
+  const bool terminal = isatty(STDOUT_FILENO) != 0;
+  try {
+    const std::vector<BenchRun> runs = PlanBench(options);
+    std::printf("aslam bench: %zu runs (%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %d at a time, in %s\n",
+                runs.size(), options.worlds.size(), options.methods.size(), options.seeds, options.duration_s,
+                options.jobs, options.out_dir.c_str());
+    std::fflush(stdout);
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    const BenchSummary summary =
+        RunBench(options, &g_stop, [&](const BenchProgress& p) { PrintBenchProgress(p, terminal); });
+    if (terminal) std::printf("\n");
+    std::printf("aslam bench: %d runs finished now, %d skipped as already finished, %zu failed, in %s wall%s\n",
+                summary.finished, summary.skipped, summary.failed.size(), Clock(summary.wall_seconds).c_str(),
+                summary.interrupted ? " (interrupted: rerun the same command to resume)" : "");
+    for (const std::string& dir : summary.failed) std::fprintf(stderr, "aslam bench: run failed: see %s/explore.log\n", dir.c_str());
+    const std::vector<std::string> written = WriteBenchReports(options);
+    std::printf("wrote %s/{", options.out_dir.c_str());
+    for (std::size_t i = 0; i < written.size(); ++i) std::printf("%s%s", i ? "," : "", written[i].c_str());
+    std::printf("}\n");
+    if (summary.interrupted) return 130;
+    return summary.failed.empty() ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam bench: %s\n", e.what());
+    return 1;
+  }
+}
+
+int LogStatsCommand(const std::vector<std::string>& paths) {
+  if (paths.size() != 1) {
+    std::fprintf(stderr, "usage: aslam log-stats RUN/run.lcmlog\n");
+    return 2;
+  }
+  try {
+    std::printf("%s", LogStatsTable(ComputeLogStats(paths[0])).c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam log-stats: %s\n", e.what());
+    return 1;
+  }
+}
+
 }  // namespace
 }  // namespace aslam
 
 int main(int argc, char** argv) {
   const bool help = argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
-  if (argc < 2 || help || std::strcmp(argv[1], "explore") != 0) {
+  const std::string command = argc >= 2 ? argv[1] : "";
+  if (command != "explore" && command != "bench" && command != "log-stats") {
     std::fprintf(help ? stdout : stderr,
                  "usage: aslam <command> [flags]\n\ncommands:\n"
-                 "  explore   explore a world, write a run folder (aslam explore --help)\n\n%s\n",
+                 "  explore     explore a world, write a run folder\n"
+                 "  bench       run the paper's experiment matrix, write its tables and figures\n"
+                 "  log-stats   CPU per process and LIDAR_SCAN -> CMD_VEL latency of a run's lcm log\n\n%s\n",
                  aslam::kUsage);
     return help ? 0 : 2;
   }
@@ -153,9 +266,17 @@ int main(int argc, char** argv) {
   int n = static_cast<int>(args.size());
   char** v = args.data();
   aslam::ParseFlags(&n, &v, aslam::kUsage);
+  if (command == "log-stats") return aslam::LogStatsCommand(std::vector<std::string>(v + 1, v + n));
   if (n > 1) {
-    std::fprintf(stderr, "aslam explore: unexpected argument '%s'\n", v[1]);
+    std::fprintf(stderr, "aslam %s: unexpected argument '%s'\n", command.c_str(), v[1]);
     return 2;
+  }
+  if (command == "bench") {
+    if (FLAGS_out.empty()) {
+      std::fprintf(stderr, "aslam bench: --out is required\nusage: %s\n", aslam::kUsage);
+      return 2;
+    }
+    return aslam::Bench();
   }
   return aslam::Explore();
 }

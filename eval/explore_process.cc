@@ -248,6 +248,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
     const int64_t now_us = listener.sim_utime();
     while (listener.heard_sim() && now_us >= next_sample_us) {
       result.coverage.push_back({next_sample_us * 1e-6, listener.coverage()});
+      result.uncertainty.push_back({next_sample_us * 1e-6, listener.mean_edge_d_opt()});
       next_sample_us += 1'000'000;
     }
     if (on_progress && progress_us > 0 && now_us >= next_progress_us) {

@@ -100,6 +100,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
         const int64_t now_us = simulator.utime();
         if (now_us >= next_sample_us) {
           result.coverage.push_back({now_us * 1e-6, listener.coverage()});
+          result.uncertainty.push_back({now_us * 1e-6, listener.mean_edge_d_opt()});
           next_sample_us += 1'000'000;
         }
         if (on_progress && progress_us > 0 && now_us >= next_progress_us) {

@@ -52,6 +52,13 @@ struct CoverageSample {
   double coverage = 0.0;
 };
 
+// The paper's "uncertainty evolution" (Fig. 3): mean D-optimality of the
+// pose graph's edges; NaN while the graph has no edge.
+struct UncertaintySample {
+  double t_s = 0.0;
+  double mean_edge_d_opt = 0.0;
+};
+
 // What metrics.json holds.
 struct RunMetrics {
   std::string world;
@@ -75,11 +82,25 @@ struct RunMetrics {
   double free_area_m2 = 0.0;        // ground-truth free area
   double occupied_precision = 0.0;  // map agreement of the final map (trajectory_eval.h)
   double free_precision = 0.0;
+  // DESIGN §6 of the final graph and map (eval/graph_metrics.h, eval/map_metrics.h).
+  double average_degree = 0.0;
+  double algebraic_connectivity = 0.0;
+  double normalized_tree_connectivity = 0.0;
+  double ssim = 0.0;
+  double map_rmse = 0.0;
+  // Table II over the run's uncertainty timeline.
+  double mean_edge_d_opt = 0.0;     // of the final graph
+  double d_opt_max = 0.0;
+  double d_opt_min = 0.0;
+  double d_opt_difference = 0.0;
+  double d_opt_reduction_percent = 0.0;
+  Pose2d map_in_world;              // where the SLAM map lies in the world (for plots over the truth)
 };
 
 struct ExploreResult {
   RunMetrics metrics;
   std::vector<CoverageSample> coverage;  // one per simulated second, then the final map's
+  std::vector<UncertaintySample> uncertainty;  // same times as `coverage`
   OccupancyGrid map;                     // final SLAM map, "map" (empty if none)
   PoseGraph graph;                       // final pose graph, "map"
   std::vector<Pose2d> slam_path;         // SLAM_POSE re-anchored to the final graph, "map"

@@ -11,6 +11,8 @@
 #include "aslam/sim_status_t.hpp"
 #include "common/channels.h"
 #include "common/types_lcm.h"
+#include "eval/graph_metrics.h"
+#include "eval/map_metrics.h"
 #include "eval/run_outputs.h"
 #include "frontier/frontier_lcm.h"
 
@@ -49,6 +51,7 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
     auto graph = FromLcm(m);
     if (!graph) return false;
     graph_ = std::move(*graph);
+    d_opt_stale_ = true;
     loop_closures_ = m.loop_closures_accepted;
     return true;
   });
@@ -115,6 +118,14 @@ double RunListener::coverage() {
   return coverage_;
 }
 
+double RunListener::mean_edge_d_opt() {
+  if (d_opt_stale_) {
+    mean_edge_d_opt_ = MeanEdgeDOptimality(graph_);
+    d_opt_stale_ = false;
+  }
+  return graph_.edges.empty() ? std::nan("") : mean_edge_d_opt_;
+}
+
 std::vector<Pose2d> RunListener::Path(const PoseGraph& graph) const {
   std::vector<Pose2d> path;
   path.reserve(path_.size());
@@ -166,6 +177,9 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
   const MapAgreement agreement = listener.Agreement(result->map);
   if (!result->coverage.empty() && result->coverage.back().t_s >= sim_s) result->coverage.pop_back();
   result->coverage.push_back({sim_s, agreement.coverage});
+  const double final_d_opt = result->graph.edges.empty() ? std::nan("") : MeanEdgeDOptimality(result->graph);
+  if (!result->uncertainty.empty() && result->uncertainty.back().t_s >= sim_s) result->uncertainty.pop_back();
+  result->uncertainty.push_back({sim_s, final_d_opt});
   result->slam_path = listener.Path(result->graph);
   for (const Frontier& f : listener.frontiers().frontiers) result->frontiers_m.push_back(f.points_m);
 
@@ -190,6 +204,22 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
   for (const PoseGraphEdge& e : result->graph.edges) m.loop_closures += e.kind == EdgeKind::kLoopClosure;
   m.done = listener.done();
   m.time_to_90_coverage_s = TimeToCoverage(result->coverage, 0.9);
+
+  m.average_degree = AverageDegree(result->graph);
+  m.algebraic_connectivity = AlgebraicConnectivity(result->graph);
+  m.normalized_tree_connectivity = NormalizedTreeConnectivity(result->graph);
+  m.map_in_world = result->map_in_world;
+  const MapQuality quality = CompareMapToTruth(result->map, result->map_in_world, world.map.grid);
+  m.ssim = quality.ssim;
+  m.map_rmse = quality.rmse;
+  m.mean_edge_d_opt = final_d_opt;
+  std::vector<double> d_opt_series;
+  for (const UncertaintySample& s : result->uncertainty) d_opt_series.push_back(s.mean_edge_d_opt);
+  const UncertaintyReduction reduction = ComputeUncertaintyReduction(d_opt_series);
+  m.d_opt_max = reduction.max;
+  m.d_opt_min = reduction.min;
+  m.d_opt_difference = reduction.difference;
+  m.d_opt_reduction_percent = reduction.percent_reduction;
 }
 
 }  // namespace aslam

@@ -33,6 +33,8 @@ class RunListener {
   // Coverage of the newest SLAM_MAP, evaluated when asked rather than for
   // every map: it costs a pass over both grids.
   double coverage();
+  // Mean edge D-optimality of the newest POSE_GRAPH (NaN without edges), evaluated when asked.
+  double mean_edge_d_opt();
   // SLAM_POSE re-anchored to `graph`'s keyframes.
   std::vector<Pose2d> Path(const PoseGraph& graph) const;
   ExploreProgress Progress(double sim_s, double wall_s);
@@ -66,6 +68,8 @@ class RunListener {
   std::optional<OccupancyGrid> map_;
   bool coverage_stale_ = false;
   double coverage_ = 0.0;
+  bool d_opt_stale_ = false;
+  double mean_edge_d_opt_ = 0.0;
   FrontierList frontiers_;
   std::optional<explore_status_t> status_;
   std::optional<explore_goal_t> goal_;

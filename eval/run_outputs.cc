@@ -77,6 +77,19 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"free_area_m2", JsonNumber(m.free_area_m2)},
       {"map_occupied_precision", JsonNumber(m.occupied_precision)},
       {"map_free_precision", JsonNumber(m.free_precision)},
+      {"average_degree", JsonNumber(m.average_degree)},
+      {"algebraic_connectivity", JsonNumber(m.algebraic_connectivity)},
+      {"normalized_tree_connectivity", JsonNumber(m.normalized_tree_connectivity)},
+      {"ssim", JsonNumber(m.ssim)},
+      {"map_rmse", JsonNumber(m.map_rmse)},
+      {"mean_edge_d_opt", JsonNumber(m.mean_edge_d_opt)},
+      {"d_opt_max", JsonNumber(m.d_opt_max)},
+      {"d_opt_min", JsonNumber(m.d_opt_min)},
+      {"d_opt_difference", JsonNumber(m.d_opt_difference)},
+      {"d_opt_reduction_percent", JsonNumber(m.d_opt_reduction_percent)},
+      {"map_in_world_x_m", JsonNumber(m.map_in_world.x_m)},
+      {"map_in_world_y_m", JsonNumber(m.map_in_world.y_m)},
+      {"map_in_world_yaw_rad", JsonNumber(m.map_in_world.yaw_rad)},
   };
   std::string out = "{\n";
   for (std::size_t i = 0; i < fields.size(); ++i) {
@@ -91,6 +104,20 @@ std::string CoverageToCsv(const std::vector<CoverageSample>& samples) {
   char buffer[64];
   for (const CoverageSample& s : samples) {
     std::snprintf(buffer, sizeof buffer, "%.3f,%.6f\n", s.t_s, s.coverage);
+    out += buffer;
+  }
+  return out;
+}
+
+std::string UncertaintyToCsv(const std::vector<UncertaintySample>& samples) {
+  std::string out = "t_s,mean_edge_d_opt\n";
+  char buffer[64];
+  for (const UncertaintySample& s : samples) {
+    if (std::isfinite(s.mean_edge_d_opt)) {
+      std::snprintf(buffer, sizeof buffer, "%.3f,%.6f\n", s.t_s, s.mean_edge_d_opt);
+    } else {
+      std::snprintf(buffer, sizeof buffer, "%.3f,\n", s.t_s);  // no edge yet
+    }
     out += buffer;
   }
   return out;
@@ -183,6 +210,7 @@ void WriteRunFolder(const ExploreResult& result, const std::string& dir) {
   if (!cv::imwrite(png, RenderRunImage(result))) throw std::runtime_error("cannot write " + png);
   WriteG2o(result.graph, dir + "/graph.g2o");
   WriteText(dir + "/coverage.csv", CoverageToCsv(result.coverage));
+  WriteText(dir + "/uncertainty.csv", UncertaintyToCsv(result.uncertainty));
   WriteText(dir + "/metrics.json", MetricsToJson(result.metrics));
 }
 

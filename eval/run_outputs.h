@@ -2,7 +2,8 @@
 
 // The run folder of `aslam explore`: map.yaml + map.pgm (ROS map_server),
 // map.png (the map with pose graph, path and frontiers drawn over it),
-// graph.g2o, coverage.csv (t_s,coverage) and metrics.json.
+// graph.g2o, coverage.csv (t_s,coverage), uncertainty.csv (t_s,mean_edge_d_opt)
+// and metrics.json.
 
 #include <optional>
 #include <string>
@@ -20,6 +21,10 @@ std::string MetricsToJson(const RunMetrics& metrics);
 
 // coverage.csv's text: a `t_s,coverage` header, then one row per sample.
 std::string CoverageToCsv(const std::vector<CoverageSample>& samples);
+
+// uncertainty.csv's text: a `t_s,mean_edge_d_opt` header, then one row per
+// sample; the value is empty while the graph has no edge.
+std::string UncertaintyToCsv(const std::vector<UncertaintySample>& samples);
 
 // The first sample time at which coverage reaches `fraction`; nullopt if never.
 std::optional<double> TimeToCoverage(const std::vector<CoverageSample>& samples, double fraction);

@@ -1,0 +1,309 @@
+#include "eval/log_stats.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <exception>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+#include <utility>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "aslam/lidar_scan_t.hpp"
+#include "aslam/procman_status_t.hpp"
+#include "aslam/velocity_command_t.hpp"
+#include "common/channels.h"
+
+namespace aslam {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kBytesPerMib = 1024.0 * 1024.0;
+
+// lcm-gen's decode returns < 0 for bad bytes, but a corrupt array count can
+// still make it resize a vector to an absurd size and throw; both are one
+// undecodable message, never the end of the analysis.
+template <typename MsgT>
+bool Decode(const lcm::LogEvent& event, MsgT* msg) {
+  try {
+    return msg->decode(event.data, 0, event.datalen) >= 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// Pairs each CMD_VEL with the LIDAR_SCAN of its utime. Scans are forgotten
+// kScanMatchWindowSeconds after they were logged, so a 30-minute log needs
+// only a few hundred entries.
+class ScanMatcher {
+ public:
+  void AddScan(int64_t utime, int64_t logged_us) {
+    Forget(logged_us);
+    logged_us_by_utime_[utime] = logged_us;  // a repeated utime (sim restart): the newest wins
+    arrival_order_.emplace_back(logged_us, utime);
+  }
+
+  void AddCommand(int64_t utime, int64_t logged_us) {
+    Forget(logged_us);
+    const auto it = logged_us_by_utime_.find(utime);
+    if (it == logged_us_by_utime_.end()) {
+      ++unmatched_;
+      return;
+    }
+    latencies_ms_.push_back((logged_us - it->second) / 1e3);
+    // One answer per scan: a second command with this utime (the stop at
+    // shutdown) must not count as a late answer.
+    logged_us_by_utime_.erase(it);
+  }
+
+  std::vector<double>& latencies_ms() { return latencies_ms_; }
+  int64_t unmatched() const { return unmatched_; }
+
+ private:
+  void Forget(int64_t now_us) {
+    const int64_t oldest_kept_us = now_us - static_cast<int64_t>(kScanMatchWindowSeconds * 1e6);
+    while (!arrival_order_.empty() && arrival_order_.front().first < oldest_kept_us) {
+      const auto [logged_us, utime] = arrival_order_.front();
+      arrival_order_.pop_front();
+      const auto it = logged_us_by_utime_.find(utime);
+      // Only if this entry is still the one that arrival recorded (not answered, not replaced).
+      if (it != logged_us_by_utime_.end() && it->second == logged_us) logged_us_by_utime_.erase(it);
+    }
+  }
+
+  std::unordered_map<int64_t, int64_t> logged_us_by_utime_;
+  std::deque<std::pair<int64_t, int64_t>> arrival_order_;  // (logged_us, utime)
+  std::vector<double> latencies_ms_;
+  int64_t unmatched_ = 0;
+};
+
+struct CpuAccumulator {
+  int samples = 0;
+  double sum_cpu_percent = 0;
+  double max_cpu_percent = 0;
+  int64_t max_rss_bytes = 0;
+};
+
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buffer[8];
+          std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+          out += buffer;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// JSON has no NaN or infinity: those become null.
+std::string JsonNumber(double value) {
+  if (!std::isfinite(value)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+// "{"a": 1, "b": 2}" with the keys in the given order.
+std::string JsonObject(const std::vector<std::pair<std::string, std::string>>& fields) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += JsonString(fields[i].first) + ": " + fields[i].second;
+  }
+  return out + "}";
+}
+
+// A table cell: the number, or "-" where there is none.
+std::string Cell(double value, const char* format) {
+  if (!std::isfinite(value)) return "-";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, format, value);
+  return buffer;
+}
+
+}  // namespace
+
+double NearestRankPercentile(const std::vector<double>& sorted_values, double p) {
+  if (sorted_values.empty()) return kNaN;
+  const double n = static_cast<double>(sorted_values.size());
+  // The epsilon keeps p·n that should be an integer (0.99·100) from rounding up past it.
+  const double rank = std::ceil(p * n - 1e-9);
+  const std::size_t index = static_cast<std::size_t>(std::clamp(rank, 1.0, n)) - 1;
+  return sorted_values[index];
+}
+
+LogStats ComputeLogStats(const std::string& lcmlog_path) {
+  lcm::LogFile log(lcmlog_path, "r");
+  if (!log.good()) throw std::runtime_error("cannot open lcm log " + lcmlog_path);
+
+  LogStats stats;
+  ScanMatcher matcher;
+  std::map<std::string, CpuAccumulator> cpu_by_name;  // every name seen, RUNNING or not
+  int64_t events = 0;
+  int64_t first_us = 0;
+  int64_t last_us = 0;
+
+  for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr; event = log.readNextEvent()) {
+    // min/max rather than first/last: the logger's wall clock may step back.
+    first_us = events == 0 ? event->timestamp : std::min(first_us, event->timestamp);
+    last_us = events == 0 ? event->timestamp : std::max(last_us, event->timestamp);
+    ++events;
+
+    if (event->channel == channels::kLidarScan) {
+      lidar_scan_t scan;
+      if (!Decode(*event, &scan)) {
+        ++stats.undecodable;
+        continue;
+      }
+      matcher.AddScan(scan.utime, event->timestamp);
+    } else if (event->channel == channels::kCmdVel) {
+      velocity_command_t command;
+      if (!Decode(*event, &command)) {
+        ++stats.undecodable;
+        continue;
+      }
+      matcher.AddCommand(command.utime, event->timestamp);
+    } else if (event->channel == channels::kProcmanStatus) {
+      procman_status_t status;
+      if (!Decode(*event, &status)) {
+        ++stats.undecodable;
+        continue;
+      }
+      for (const procman_process_status_t& p : status.processes) {
+        CpuAccumulator& acc = cpu_by_name[p.name];
+        // A NaN from a broken deputy would poison the mean; such a sample says nothing.
+        if (p.state != procman_process_status_t::STATE_RUNNING || !std::isfinite(p.cpu_percent)) continue;
+        ++acc.samples;
+        acc.sum_cpu_percent += p.cpu_percent;
+        acc.max_cpu_percent = acc.samples == 1 ? p.cpu_percent : std::max(acc.max_cpu_percent, p.cpu_percent);
+        acc.max_rss_bytes = std::max(acc.max_rss_bytes, p.rss_bytes);
+      }
+    }
+  }
+  if (events == 0) {
+    throw std::runtime_error("no lcm events in " + lcmlog_path + " (empty, or not an lcm log)");
+  }
+  stats.log_seconds = (last_us - first_us) / 1e6;
+
+  for (const auto& [name, acc] : cpu_by_name) {
+    ProcessCpu p;
+    p.name = name;
+    p.samples = acc.samples;
+    if (acc.samples > 0) {
+      p.mean_cpu_percent = acc.sum_cpu_percent / acc.samples;
+      p.max_cpu_percent = acc.max_cpu_percent;
+      p.max_rss_mib = acc.max_rss_bytes / kBytesPerMib;
+      stats.total_mean_cpu_percent += p.mean_cpu_percent;
+    }
+    stats.processes.push_back(std::move(p));
+  }
+  for (ProcessCpu& p : stats.processes) {
+    // 0/0 (nothing used any CPU) stays NaN: there is no share to speak of.
+    if (p.samples > 0 && stats.total_mean_cpu_percent > 0) {
+      p.share = p.mean_cpu_percent / stats.total_mean_cpu_percent;
+    }
+  }
+  // Highest mean first; processes that never ran last; ties by name so the order is reproducible.
+  std::stable_sort(stats.processes.begin(), stats.processes.end(), [](const ProcessCpu& a, const ProcessCpu& b) {
+    const bool a_ran = a.samples > 0;
+    const bool b_ran = b.samples > 0;
+    if (a_ran != b_ran) return a_ran;
+    if (a_ran && a.mean_cpu_percent != b.mean_cpu_percent) return a.mean_cpu_percent > b.mean_cpu_percent;
+    return false;  // cpu_by_name is ordered by name already
+  });
+
+  std::vector<double>& latencies_ms = matcher.latencies_ms();
+  std::sort(latencies_ms.begin(), latencies_ms.end());
+  LatencyStats& latency = stats.scan_to_cmd_vel;
+  latency.matched = static_cast<int64_t>(latencies_ms.size());
+  latency.unmatched_commands = matcher.unmatched();
+  latency.median_ms = NearestRankPercentile(latencies_ms, 0.5);
+  latency.p99_ms = NearestRankPercentile(latencies_ms, 0.99);
+  latency.max_ms = latencies_ms.empty() ? kNaN : latencies_ms.back();
+  return stats;
+}
+
+std::string LogStatsTable(const LogStats& stats) {
+  std::string out;
+  char line[256];
+  std::size_t name_width = 7;  // "process"
+  for (const ProcessCpu& p : stats.processes) name_width = std::max(name_width, p.name.size());
+  const int w = static_cast<int>(name_width);
+  std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, "process", "mean CPU %", "max CPU %", "share",
+                "max RSS MiB");
+  out += line;
+  for (const ProcessCpu& p : stats.processes) {
+    std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, p.name.c_str(),
+                  Cell(p.mean_cpu_percent, "%.1f").c_str(), Cell(p.max_cpu_percent, "%.1f").c_str(),
+                  Cell(100.0 * p.share, "%.1f%%").c_str(), Cell(p.max_rss_mib, "%.1f").c_str());
+    out += line;
+  }
+  if (stats.processes.empty()) {
+    out += "(no PROCMAN_STATUS in the log)\n";
+  } else {
+    std::snprintf(line, sizeof line, "%-*s %10s\n", w, "total", Cell(stats.total_mean_cpu_percent, "%.1f").c_str());
+    out += line;
+  }
+  const LatencyStats& l = stats.scan_to_cmd_vel;
+  std::snprintf(line, sizeof line,
+                "LIDAR_SCAN -> CMD_VEL: median %s ms, p99 %s ms, max %s ms (%lld matched, %lld unmatched commands)\n",
+                Cell(l.median_ms, "%.2f").c_str(), Cell(l.p99_ms, "%.2f").c_str(), Cell(l.max_ms, "%.2f").c_str(),
+                static_cast<long long>(l.matched), static_cast<long long>(l.unmatched_commands));
+  out += line;
+  std::snprintf(line, sizeof line, "log: %.1f s, %lld undecodable messages\n", stats.log_seconds,
+                static_cast<long long>(stats.undecodable));
+  out += line;
+  return out;
+}
+
+std::string LogStatsJson(const LogStats& stats) {
+  std::string processes = "[";
+  for (std::size_t i = 0; i < stats.processes.size(); ++i) {
+    const ProcessCpu& p = stats.processes[i];
+    processes += i == 0 ? "\n    " : ",\n    ";
+    processes += JsonObject({
+        {"name", JsonString(p.name)},
+        {"samples", std::to_string(p.samples)},
+        {"mean_cpu_percent", JsonNumber(p.mean_cpu_percent)},
+        {"max_cpu_percent", JsonNumber(p.max_cpu_percent)},
+        {"share", JsonNumber(p.share)},
+        {"max_rss_mib", JsonNumber(p.max_rss_mib)},
+    });
+  }
+  processes += stats.processes.empty() ? "]" : "\n  ]";
+  const LatencyStats& l = stats.scan_to_cmd_vel;
+  const std::vector<std::pair<std::string, std::string>> fields = {
+      {"log_seconds", JsonNumber(stats.log_seconds)},
+      {"undecodable", std::to_string(stats.undecodable)},
+      {"total_mean_cpu_percent", JsonNumber(stats.total_mean_cpu_percent)},
+      {"processes", processes},
+      {"scan_to_cmd_vel", JsonObject({
+                              {"matched", std::to_string(l.matched)},
+                              {"unmatched_commands", std::to_string(l.unmatched_commands)},
+                              {"median_ms", JsonNumber(l.median_ms)},
+                              {"p99_ms", JsonNumber(l.p99_ms)},
+                              {"max_ms", JsonNumber(l.max_ms)},
+                          })},
+  };
+  std::string out = "{\n";
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    out += "  " + JsonString(fields[i].first) + ": " + fields[i].second;
+    out += i + 1 < fields.size() ? ",\n" : "\n";
+  }
+  return out + "}\n";
+}
+
+}  // namespace aslam

@@ -1,0 +1,78 @@
+#pragma once
+
+// What a process-mode run's lcm log (run.lcmlog, written by lcm-logger under
+// procman, DESIGN §4) says about the processes themselves: how much CPU and
+// memory each used (PROCMAN_STATUS) and how long aslam-nav took from a
+// LIDAR_SCAN to the CMD_VEL it answered it with. Times are the logger's
+// receive timestamps (wall clock, µs), so they include transport; message
+// utimes (simulated time) serve only to pair a command with its scan.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace aslam {
+
+// One supervised process, over the PROCMAN_STATUS samples in which it was
+// RUNNING (a stopped, failed or restarting process uses no CPU worth
+// averaging). Processes are keyed by name: with several deputies, samples of
+// one name are pooled.
+struct ProcessCpu {
+  std::string name;
+  int samples = 0;  // RUNNING samples; 0 if the process never ran (then the figures are NaN)
+  double mean_cpu_percent = std::numeric_limits<double>::quiet_NaN();  // 100 = one core
+  double max_cpu_percent = std::numeric_limits<double>::quiet_NaN();
+  double share = std::numeric_limits<double>::quiet_NaN();  // mean / sum of every process's mean
+  double max_rss_mib = std::numeric_limits<double>::quiet_NaN();  // MiB = 2^20 bytes
+};
+
+// Scan-to-command latency: CMD_VEL receive time − receive time of the
+// LIDAR_SCAN with the same utime (aslam-nav answers each scan with exactly
+// one CMD_VEL stamped with the scan's utime). Percentiles are nearest rank:
+// the p-th percentile of n values is the ceil(p·n)-th smallest, so it is
+// always a measured value; the median is p = 0.5.
+struct LatencyStats {
+  int64_t matched = 0;
+  // CMD_VELs with no logged scan of their utime left to answer: the scan was
+  // lost, it is older than the matching window (kScanMatchWindowSeconds), or
+  // it was already answered — aslam-nav's stop command at shutdown carries
+  // the latest input time, i.e. repeats an answered scan's utime.
+  int64_t unmatched_commands = 0;
+  double median_ms = std::numeric_limits<double>::quiet_NaN();  // NaN when nothing matched
+  double p99_ms = std::numeric_limits<double>::quiet_NaN();
+  double max_ms = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct LogStats {
+  double log_seconds = 0;  // first to last event, logger time
+  std::vector<ProcessCpu> processes;  // highest mean CPU first; never-RUNNING ones last
+  double total_mean_cpu_percent = 0;  // sum of the processes' means
+  LatencyStats scan_to_cmd_vel;
+  // LIDAR_SCAN, CMD_VEL and PROCMAN_STATUS events whose bytes do not decode
+  // as their type; skipped. Other channels are not decoded.
+  int64_t undecodable = 0;
+};
+
+// A scan is kept for matching this long (logger time) after it was logged,
+// which bounds memory; a command answering an older scan counts as unmatched.
+inline constexpr double kScanMatchWindowSeconds = 10.0;
+
+// Reads the lcm log at `lcmlog_path` once. Throws std::runtime_error naming
+// the file if it cannot be opened, is not an lcm log or holds no events.
+// A log without PROCMAN_STATUS or CMD_VEL gives no processes or NaN latencies.
+LogStats ComputeLogStats(const std::string& lcmlog_path);
+
+// Nearest-rank percentile of `sorted_values` (ascending): the ceil(p·n)-th
+// smallest, p in [0, 1] (p = 0 gives the smallest); NaN for no values.
+double NearestRankPercentile(const std::vector<double>& sorted_values, double p);
+
+// A text table: process | mean CPU % | max CPU % | share | max RSS MiB, a
+// total row, then the latency line and the log length. NaN shows as "-".
+std::string LogStatsTable(const LogStats& stats);
+
+// One JSON object, keys in a fixed order, one per line (processes one per
+// line); NaN is null. Same stats, same text.
+std::string LogStatsJson(const LogStats& stats);
+
+}  // namespace aslam

@@ -1,0 +1,395 @@
+#include "eval/log_stats.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include "aslam/lidar_scan_t.hpp"
+#include "aslam/procman_status_t.hpp"
+#include "aslam/velocity_command_t.hpp"
+#include "common/channels.h"
+
+namespace aslam {
+namespace {
+
+constexpr int64_t kStartUs = 1'700'000'000'000'000;  // a wall-clock epoch, as lcm-logger writes
+constexpr double kMib = 1024.0 * 1024.0;
+
+// A file in the test's temp folder, unique per test case and process (ctest
+// runs the cases in parallel), removed afterwards.
+class TempLogPath {
+ public:
+  TempLogPath() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = ::testing::TempDir() + "log_stats_" + info->test_suite_name() + "_" + info->name() + "_" +
+            std::to_string(::getpid()) + ".lcmlog";
+  }
+  ~TempLogPath() { std::remove(path_.c_str()); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// Writes a synthetic lcm log event by event; the log is complete once the writer is destroyed.
+class LogWriter {
+ public:
+  explicit LogWriter(const std::string& path) : log_(path, "w") {
+    if (!log_.good()) throw std::runtime_error("cannot write " + path);
+  }
+
+  template <typename MsgT>
+  void Write(const std::string& channel, int64_t logged_us, const MsgT& msg) {
+    std::vector<uint8_t> bytes(msg.getEncodedSize());
+    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+    WriteBytes(channel, logged_us, bytes);
+  }
+
+  void WriteBytes(const std::string& channel, int64_t logged_us, std::vector<uint8_t> bytes) {
+    lcm::LogEvent event{};
+    event.timestamp = logged_us;
+    event.channel = channel;
+    event.datalen = static_cast<int32_t>(bytes.size());
+    event.data = bytes.data();
+    ASSERT_EQ(log_.writeEvent(&event), 0);
+  }
+
+ private:
+  lcm::LogFile log_;
+};
+
+lidar_scan_t Scan(int64_t utime) {
+  lidar_scan_t scan{};
+  scan.utime = utime;
+  scan.num_ranges = 3;
+  scan.range_m = {1.0f, 2.0f, 0.0f};
+  return scan;
+}
+
+velocity_command_t Command(int64_t utime) {
+  velocity_command_t command{};
+  command.utime = utime;
+  command.linear_mps = 0.2;
+  return command;
+}
+
+procman_process_status_t Process(const std::string& name, int8_t state, double cpu_percent, int64_t rss_bytes) {
+  procman_process_status_t p{};
+  p.name = name;
+  p.state = state;
+  p.should_run = true;
+  p.pid = state == procman_process_status_t::STATE_RUNNING ? 1234 : 0;
+  p.cpu_percent = cpu_percent;
+  p.rss_bytes = rss_bytes;
+  return p;
+}
+
+procman_status_t Status(const std::string& deputy, std::vector<procman_process_status_t> processes) {
+  procman_status_t status{};
+  status.deputy = deputy;
+  status.pid = 99;
+  status.num_processes = static_cast<int32_t>(processes.size());
+  status.processes = std::move(processes);
+  return status;
+}
+
+constexpr int8_t kRunning = procman_process_status_t::STATE_RUNNING;
+
+TEST(NearestRankPercentile, IsTheCeilPTimesNthSmallest) {
+  const std::vector<double> three = {1.0, 2.0, 3.0};
+  EXPECT_EQ(NearestRankPercentile(three, 0.5), 2.0);   // ceil(1.5) = 2nd
+  EXPECT_EQ(NearestRankPercentile(three, 0.99), 3.0);  // ceil(2.97) = 3rd
+  EXPECT_EQ(NearestRankPercentile(three, 1.0), 3.0);
+  EXPECT_EQ(NearestRankPercentile(three, 0.0), 1.0);   // rank 0 clamps to the smallest
+  EXPECT_EQ(NearestRankPercentile(three, 1.0 / 3.0), 1.0);  // exactly the 1st, not rounded up
+  const std::vector<double> four = {10.0, 20.0, 30.0, 40.0};
+  EXPECT_EQ(NearestRankPercentile(four, 0.5), 20.0);  // ceil(2) = 2nd: the lower middle, never an average
+  EXPECT_EQ(NearestRankPercentile({7.0}, 0.99), 7.0);
+  EXPECT_TRUE(std::isnan(NearestRankPercentile({}, 0.5)));
+}
+
+// 100 scans, each answered i ms after it was logged (i = 1..100 in a
+// shuffled order): nearest-rank median = 50th smallest = 50 ms, p99 = 99th
+// smallest = 99 ms, max 100 ms.
+TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    for (int i = 0; i < 100; ++i) {
+      const int64_t utime = 5'000'000 + i * 100'000;          // 10 Hz simulated time
+      const int64_t scan_logged_us = kStartUs + i * 200'000;  // half real time: 200 ms apart
+      const int delay_ms = (i * 37) % 100 + 1;                // 37 is prime to 100: a permutation of 1..100
+      log.Write(channels::kLidarScan, scan_logged_us, Scan(utime));
+      log.Write(channels::kCmdVel, scan_logged_us + delay_ms * 1000, Command(utime));
+    }
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  const LatencyStats& l = stats.scan_to_cmd_vel;
+  EXPECT_EQ(l.matched, 100);
+  EXPECT_EQ(l.unmatched_commands, 0);
+  EXPECT_DOUBLE_EQ(l.median_ms, 50.0);
+  EXPECT_DOUBLE_EQ(l.p99_ms, 99.0);
+  EXPECT_DOUBLE_EQ(l.max_ms, 100.0);
+  // First event: scan 0 at +0; last: command 99 at +99·200 ms + (99·37 mod 100 + 1) ms = 19.8 s + 64 ms.
+  EXPECT_DOUBLE_EQ(stats.log_seconds, 19.864);
+  EXPECT_EQ(stats.undecodable, 0);
+  EXPECT_TRUE(stats.processes.empty());  // no PROCMAN_STATUS
+  EXPECT_EQ(stats.total_mean_cpu_percent, 0.0);
+}
+
+TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    log.Write(channels::kLidarScan, kStartUs, Scan(1'000'000));
+    log.Write(channels::kCmdVel, kStartUs + 4'000, Command(1'000'000));     // 4 ms
+    log.Write(channels::kCmdVel, kStartUs + 50'000, Command(1'050'000));    // no scan at this utime
+    log.Write(channels::kLidarScan, kStartUs + 100'000, Scan(1'100'000));
+    log.Write(channels::kCmdVel, kStartUs + 106'000, Command(1'100'000));   // 6 ms
+  }
+  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  EXPECT_EQ(l.matched, 2);
+  EXPECT_EQ(l.unmatched_commands, 1);
+  EXPECT_DOUBLE_EQ(l.median_ms, 4.0);  // ceil(0.5·2) = 1st of {4, 6}
+  EXPECT_DOUBLE_EQ(l.p99_ms, 6.0);
+  EXPECT_DOUBLE_EQ(l.max_ms, 6.0);
+}
+
+// aslam-nav's stop at shutdown carries the latest input time, i.e. the utime
+// of a scan it already answered; it is not a 2-second answer to that scan.
+TEST(ComputeLogStats, SecondCommandForAnAnsweredScanIsUnmatched) {
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    log.Write(channels::kLidarScan, kStartUs, Scan(7'000'000));
+    log.Write(channels::kCmdVel, kStartUs + 3'000, Command(7'000'000));
+    log.Write(channels::kCmdVel, kStartUs + 2'000'000, Command(7'000'000));  // the stop
+  }
+  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  EXPECT_EQ(l.matched, 1);
+  EXPECT_EQ(l.unmatched_commands, 1);
+  EXPECT_DOUBLE_EQ(l.max_ms, 3.0);
+}
+
+// Scans are kept kScanMatchWindowSeconds (10 s) of log time, no longer.
+TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    log.Write(channels::kLidarScan, kStartUs, Scan(100));
+    log.Write(channels::kLidarScan, kStartUs + 1'000'000, Scan(200));
+    log.Write(channels::kCmdVel, kStartUs + 10'500'000, Command(100));  // 10.5 s after its scan: forgotten
+    log.Write(channels::kCmdVel, kStartUs + 10'900'000, Command(200));  // 9.9 s after its scan: kept
+  }
+  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  EXPECT_EQ(l.matched, 1);
+  EXPECT_EQ(l.unmatched_commands, 1);
+  EXPECT_DOUBLE_EQ(l.max_ms, 9900.0);
+}
+
+// Two deputies. RUNNING samples: aslam-slam 60, 80, 100 % (mean 80, max 100);
+// aslam-nav 20, 30 % (mean 25) plus one BACKOFF sample at 90 % that must not
+// count; aslam-sim 10, 20, 30 % (mean 20). Sum of means 125: shares 0.64,
+// 0.2, 0.16. aslam-viewer never runs: listed last, without figures.
+TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
+  constexpr int8_t kBackoff = procman_process_status_t::STATE_BACKOFF;
+  constexpr int8_t kFailed = procman_process_status_t::STATE_FAILED;
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    const int64_t mib = 1024 * 1024;
+    log.Write(channels::kProcmanStatus, kStartUs,
+              Status("robot", {Process("aslam-slam", kRunning, 60.0, 100 * mib),
+                               Process("aslam-nav", kRunning, 20.0, 30 * mib)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 10'000,
+              Status("base", {Process("aslam-sim", kRunning, 10.0, 50 * mib),
+                              Process("aslam-viewer", kFailed, 0.0, 0)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 1'000'000,
+              Status("robot", {Process("aslam-slam", kRunning, 100.0, 250 * mib),
+                               Process("aslam-nav", kBackoff, 90.0, 900 * mib)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 1'010'000,
+              Status("base", {Process("aslam-sim", kRunning, 20.0, 40 * mib),
+                              Process("aslam-viewer", kFailed, 0.0, 0)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 2'000'000,
+              Status("robot", {Process("aslam-slam", kRunning, 80.0, 200 * mib),
+                               Process("aslam-nav", kRunning, 30.0, 32 * mib)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 2'010'000,
+              Status("base", {Process("aslam-sim", kRunning, 30.0, 45 * mib),
+                              Process("aslam-viewer", kFailed, 0.0, 0)}));
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  ASSERT_EQ(stats.processes.size(), 4u);
+  const ProcessCpu& slam = stats.processes[0];
+  const ProcessCpu& nav = stats.processes[1];
+  const ProcessCpu& sim = stats.processes[2];
+  const ProcessCpu& viewer = stats.processes[3];
+  EXPECT_EQ(slam.name, "aslam-slam");
+  EXPECT_EQ(nav.name, "aslam-nav");
+  EXPECT_EQ(sim.name, "aslam-sim");
+  EXPECT_EQ(viewer.name, "aslam-viewer");
+
+  EXPECT_EQ(slam.samples, 3);
+  EXPECT_DOUBLE_EQ(slam.mean_cpu_percent, 80.0);
+  EXPECT_DOUBLE_EQ(slam.max_cpu_percent, 100.0);
+  EXPECT_DOUBLE_EQ(slam.max_rss_mib, 250.0);
+  EXPECT_EQ(nav.samples, 2);
+  EXPECT_DOUBLE_EQ(nav.mean_cpu_percent, 25.0);
+  EXPECT_DOUBLE_EQ(nav.max_cpu_percent, 30.0);
+  EXPECT_DOUBLE_EQ(nav.max_rss_mib, 32.0);  // the BACKOFF sample's 900 MiB does not count either
+  EXPECT_EQ(sim.samples, 3);
+  EXPECT_DOUBLE_EQ(sim.mean_cpu_percent, 20.0);
+  EXPECT_DOUBLE_EQ(sim.max_cpu_percent, 30.0);
+  EXPECT_DOUBLE_EQ(sim.max_rss_mib, 50.0);
+
+  EXPECT_DOUBLE_EQ(stats.total_mean_cpu_percent, 125.0);
+  EXPECT_DOUBLE_EQ(slam.share, 0.64);
+  EXPECT_DOUBLE_EQ(nav.share, 0.2);
+  EXPECT_DOUBLE_EQ(sim.share, 0.16);
+  EXPECT_DOUBLE_EQ(slam.share + nav.share + sim.share, 1.0);
+
+  EXPECT_EQ(viewer.samples, 0);
+  EXPECT_TRUE(std::isnan(viewer.mean_cpu_percent));
+  EXPECT_TRUE(std::isnan(viewer.share));
+
+  EXPECT_DOUBLE_EQ(stats.log_seconds, 2.01);
+  EXPECT_EQ(stats.scan_to_cmd_vel.matched, 0);  // no CMD_VEL
+  EXPECT_TRUE(std::isnan(stats.scan_to_cmd_vel.median_ms));
+}
+
+// Bytes that are not the channel's type are skipped and counted; channels
+// this analysis does not read are not judged.
+TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
+  TempLogPath file;
+  {
+    LogWriter log(file.path());
+    log.Write(channels::kLidarScan, kStartUs, Scan(500));
+    log.WriteBytes(channels::kCmdVel, kStartUs + 1'000, {1, 2, 3});
+    log.Write(channels::kProcmanStatus, kStartUs + 2'000, Command(500));  // the wrong type
+    log.WriteBytes(channels::kSlamMap, kStartUs + 3'000, {4, 5});         // not read
+    log.Write(channels::kCmdVel, kStartUs + 8'000, Command(500));
+    log.Write(channels::kProcmanStatus, kStartUs + 9'000,
+              Status("robot", {Process("aslam-nav", kRunning, 12.0, 1024 * 1024)}));
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  EXPECT_EQ(stats.undecodable, 2);
+  EXPECT_EQ(stats.scan_to_cmd_vel.matched, 1);
+  EXPECT_EQ(stats.scan_to_cmd_vel.unmatched_commands, 0);
+  EXPECT_DOUBLE_EQ(stats.scan_to_cmd_vel.max_ms, 8.0);
+  ASSERT_EQ(stats.processes.size(), 1u);
+  EXPECT_DOUBLE_EQ(stats.processes[0].mean_cpu_percent, 12.0);
+  EXPECT_DOUBLE_EQ(stats.processes[0].share, 1.0);
+}
+
+void ExpectRuntimeErrorNaming(const std::string& path) {
+  try {
+    ComputeLogStats(path);
+    FAIL() << "expected std::runtime_error for " << path;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST(ComputeLogStats, MissingFileThrowsNamingIt) {
+  ExpectRuntimeErrorNaming(::testing::TempDir() + "no_such_dir_log_stats/run.lcmlog");
+}
+
+TEST(ComputeLogStats, GarbageFileThrowsNamingIt) {
+  TempLogPath file;
+  {
+    std::ofstream out(file.path(), std::ios::binary);
+    for (int i = 0; i < 1000; ++i) out << "this is not an lcm log\n";
+  }
+  ExpectRuntimeErrorNaming(file.path());
+}
+
+TEST(ComputeLogStats, EmptyFileThrowsNamingIt) {
+  TempLogPath file;
+  { std::ofstream out(file.path(), std::ios::binary); }
+  ExpectRuntimeErrorNaming(file.path());
+}
+
+// The JSON of hand-made stats, whole: fixed key order, NaN as null.
+TEST(LogStatsJson, FixedKeysAndNullForNaN) {
+  LogStats stats;
+  stats.log_seconds = 12.5;
+  stats.undecodable = 3;
+  stats.total_mean_cpu_percent = 50.0;
+  ProcessCpu slam;
+  slam.name = "aslam-slam";
+  slam.samples = 4;
+  slam.mean_cpu_percent = 37.5;
+  slam.max_cpu_percent = 90.0;
+  slam.share = 0.75;
+  slam.max_rss_mib = 120.25;
+  ProcessCpu idle;
+  idle.name = "aslam-\"idle\"";
+  stats.processes = {slam, idle};
+  stats.scan_to_cmd_vel.matched = 0;
+  stats.scan_to_cmd_vel.unmatched_commands = 1;
+  EXPECT_EQ(LogStatsJson(stats),
+            "{\n"
+            "  \"log_seconds\": 12.5,\n"
+            "  \"undecodable\": 3,\n"
+            "  \"total_mean_cpu_percent\": 50,\n"
+            "  \"processes\": [\n"
+            "    {\"name\": \"aslam-slam\", \"samples\": 4, \"mean_cpu_percent\": 37.5, \"max_cpu_percent\": 90, "
+            "\"share\": 0.75, \"max_rss_mib\": 120.25},\n"
+            "    {\"name\": \"aslam-\\\"idle\\\"\", \"samples\": 0, \"mean_cpu_percent\": null, \"max_cpu_percent\": "
+            "null, \"share\": null, \"max_rss_mib\": null}\n"
+            "  ],\n"
+            "  \"scan_to_cmd_vel\": {\"matched\": 0, \"unmatched_commands\": 1, \"median_ms\": null, "
+            "\"p99_ms\": null, \"max_ms\": null}\n"
+            "}\n");
+}
+
+TEST(LogStatsJson, NoProcessesIsAnEmptyArray) {
+  const std::string json = LogStatsJson(LogStats{});
+  EXPECT_NE(json.find("\"processes\": [],\n"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"median_ms\": null"), std::string::npos) << json;
+}
+
+TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
+  LogStats stats;
+  stats.log_seconds = 61.0;
+  stats.total_mean_cpu_percent = 50.0;
+  ProcessCpu slam;
+  slam.name = "aslam-slam";
+  slam.samples = 4;
+  slam.mean_cpu_percent = 37.5;
+  slam.max_cpu_percent = 90.0;
+  slam.share = 0.75;
+  slam.max_rss_mib = 120.25;
+  ProcessCpu nav = slam;
+  nav.name = "aslam-nav";
+  nav.mean_cpu_percent = 12.5;
+  nav.share = 0.25;
+  stats.processes = {slam, nav};
+  stats.scan_to_cmd_vel.matched = 10;
+  stats.scan_to_cmd_vel.median_ms = 1.5;
+  stats.scan_to_cmd_vel.p99_ms = 4.25;
+  stats.scan_to_cmd_vel.max_ms = 7.0;
+  const std::string table = LogStatsTable(stats);
+  EXPECT_EQ(table,
+            "process    mean CPU %  max CPU %   share  max RSS MiB\n"
+            "aslam-slam       37.5       90.0   75.0%        120.2\n"
+            "aslam-nav        12.5       90.0   25.0%        120.2\n"
+            "total            50.0\n"
+            "LIDAR_SCAN -> CMD_VEL: median 1.50 ms, p99 4.25 ms, max 7.00 ms (10 matched, 0 unmatched commands)\n"
+            "log: 61.0 s, 0 undecodable messages\n");
+
+  const std::string empty = LogStatsTable(LogStats{});
+  EXPECT_NE(empty.find("no PROCMAN_STATUS"), std::string::npos) << empty;
+  EXPECT_NE(empty.find("median - ms, p99 - ms, max - ms"), std::string::npos) << empty;
+}
+
+}  // namespace
+}  // namespace aslam
