@@ -37,7 +37,7 @@ DEFINE_double(rate, 1.0, "real-time factor of process mode (--inproc always runs
 DEFINE_string(config, "", "config file (config/aslam.yaml layout); default: built-in defaults");
 DEFINE_string(out, "", "run folder to write (created)");
 DEFINE_string(lcm_url, "",
-              "process mode: LCM URL of the run (default: udpm://239.255.76.67:PORT?ttl=0, PORT from the pid)");
+              "process mode: LCM URL of the run (default: udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304, PORT from the pid)");
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
 DEFINE_string(worlds, "office,campus", "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
 DEFINE_string(methods, "fd,ags,ours", "bench: comma-separated methods");

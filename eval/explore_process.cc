@@ -152,7 +152,8 @@ pid_t SpawnDeputy(const std::vector<std::string>& argv, const std::string& log_p
 }  // namespace
 
 std::string PrivateLcmUrl(int pid) {
-  return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) + "?ttl=0";
+  // SLAM_MAP spans many datagrams: ask for a 4 MiB receive buffer (the kernel caps it at net.core.rmem_max).
+  return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) + "?ttl=0&recv_buf_size=4194304";
 }
 
 std::string AddModeToMetricsJson(const std::string& json, const std::string& mode) {

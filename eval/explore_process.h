@@ -30,7 +30,8 @@ struct ExploreProcessOptions {
   double stop_timeout_s = 15.0;     // wall seconds from SIGTERM to SIGKILL of the deputy
 };
 
-// udpm://239.255.76.67:PORT?ttl=0 with a port derived from `pid` (17000..26999).
+// udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304 with a port derived from
+// `pid` (17000..26999).
 std::string PrivateLcmUrl(int pid);
 
 // Runs one exploration as processes. Writes OUT/config.yaml (the config with
