@@ -445,11 +445,9 @@ void WriteFig5Inputs(const RunRecord& record, const std::string& out_prefix) {
   const LoadedMap slam = LoadMap(record.run.dir + "/map.yaml");
   const Pose2d map_in_world{record.Number("map_in_world_x_m"), record.Number("map_in_world_y_m"),
                             record.Number("map_in_world_yaw_rad")};
-  cv::Mat truth_grey, slam_grey;
+  cv::Mat truth_grey, slam_grey;  // MapToGrey's row 0 is the map's top row, as imshow wants
   MapToGrey(truth).convertTo(truth_grey, CV_8U, 255.0);
   MapToGrey(ResampleOnGrid(slam.grid, map_in_world, truth)).convertTo(slam_grey, CV_8U, 255.0);
-  cv::flip(truth_grey, truth_grey, 0);  // image row 0 is the map's top
-  cv::flip(slam_grey, slam_grey, 0);
   if (!cv::imwrite(out_prefix + "_truth.png", truth_grey) || !cv::imwrite(out_prefix + "_map.png", slam_grey)) {
     throw std::runtime_error("cannot write " + out_prefix + "_{truth,map}.png");
   }

@@ -78,12 +78,14 @@ def fig5(out, world):
     width_m = extent[1] - extent[0]
     height_m = extent[3] - extent[2]
     fig, ax = plt.subplots(figsize=(10, max(3.0, 10 * height_m / max(width_m, 1e-6)) + 0.6))
-    # Truth walls in light blue underneath; the SLAM map's walls in black and free space white over it.
+    # Truth underneath (walls light blue, free space grey); the SLAM map over it (free white, walls black),
+    # so grey is free space the robot never mapped.
     truth_rgba = np.zeros(truth.shape[:2] + (4,))
     truth_rgba[truth < 0.1] = (0.55, 0.75, 1.0, 1.0)
+    truth_rgba[truth > 0.9] = (0.8, 0.8, 0.8, 1.0)
     ax.imshow(truth_rgba, extent=extent, interpolation="nearest")
     slam_rgba = np.zeros(slam.shape[:2] + (4,))
-    slam_rgba[slam > 0.9] = (1.0, 1.0, 1.0, 0.6)
+    slam_rgba[slam > 0.9] = (1.0, 1.0, 1.0, 1.0)
     slam_rgba[slam < 0.1] = (0.0, 0.0, 0.0, 1.0)
     ax.imshow(slam_rgba, extent=extent, interpolation="nearest")
     with open(prefix + "_graph.csv", newline="") as f:
@@ -97,7 +99,7 @@ def fig5(out, world):
         ax.plot(xs, ys, color="tab:red" if loop == "1" else "tab:blue", linewidth=0.6 if loop == "1" else 0.9,
                 alpha=0.7, label="loop closures" if loop == "1" else "odometry edges")
     ax.set_title(f"{world}: {LABELS.get(extent_row['method'], extent_row['method'])}, seed {extent_row['seed']}, "
-                 f"coverage {100 * float(extent_row['coverage']):.1f} % (truth walls light blue)")
+                 f"coverage {100 * float(extent_row['coverage']):.1f} %\n(truth: walls light blue, unmapped free space grey)")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_aspect("equal")

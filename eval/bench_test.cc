@@ -7,6 +7,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 namespace aslam {
 namespace {
@@ -188,6 +189,19 @@ TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
     EXPECT_GT(fs::file_size(options.out_dir + "/" + name), 100u) << name;
   }
   EXPECT_EQ(CountLines(ReadFile(options.out_dir + "/runs.csv")), 7);
+  // Fig. 5's truth image reads like the world's map.pgm (top row first): walls dark, free space white.
+  const cv::Mat pgm = cv::imread(std::string(ASLAM_SOURCE_DIR) + "/worlds/test/map.pgm", cv::IMREAD_GRAYSCALE);
+  const cv::Mat truth = cv::imread(options.out_dir + "/fig5_test_truth.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(pgm.size(), truth.size());
+  int disagreements = 0;
+  for (int row = 0; row < pgm.rows; ++row) {
+    for (int col = 0; col < pgm.cols; ++col) {
+      const uint8_t p = pgm.at<uint8_t>(row, col);
+      const uint8_t t = truth.at<uint8_t>(row, col);
+      disagreements += (p < 50 && t != 0) || (p > 250 && t != 255);
+    }
+  }
+  EXPECT_EQ(disagreements, 0);
   const std::string table1 = ReadFile(options.out_dir + "/table1.md");
   for (const std::string method : {"fd", "ags", "ours"}) {
     EXPECT_NE(table1.find("| test | " + method + " | 2 |"), std::string::npos) << table1;
