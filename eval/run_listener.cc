@@ -112,7 +112,7 @@ MapAgreement RunListener::Agreement(const OccupancyGrid& map) {
 
 double RunListener::coverage() {
   if (coverage_stale_ && map_ && MapInWorld()) {
-    coverage_ = Agreement(*map_).coverage;
+    coverage_ = ComputeCoverage(*map_, *MapInWorld(), truth_map_).fraction;
     coverage_stale_ = false;
   }
   return coverage_;

@@ -107,6 +107,23 @@ AteResult ComputeAte(const std::vector<TimedPose>& estimate, const std::vector<T
   return result;
 }
 
+Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world, const OccupancyGrid& truth) {
+  Coverage result;
+  const Pose2d world_in_map = map_in_world.Inverse();
+  for (int row = 0; row < truth.height_cells(); ++row) {
+    for (int col = 0; col < truth.width_cells(); ++col) {
+      if (truth.at({col, row}) != OccupancyGrid::kFree) continue;
+      ++result.truth_free_cells;
+      const CellIndex cell = slam_map.WorldToCell(world_in_map.Transform(truth.CellCenter({col, row})));
+      if (slam_map.ValueOr(cell, OccupancyGrid::kUnknown) != OccupancyGrid::kUnknown) {
+        ++result.truth_free_known;
+      }
+    }
+  }
+  result.fraction = Ratio(result.truth_free_known, result.truth_free_cells);
+  return result;
+}
+
 MapAgreement ComputeMapAgreement(const OccupancyGrid& slam_map, const Pose2d& map_in_world,
                                  const OccupancyGrid& truth, const MapAgreementOptions& options) {
   MapAgreement result;
@@ -132,20 +149,12 @@ MapAgreement ComputeMapAgreement(const OccupancyGrid& slam_map, const Pose2d& ma
       }
     }
   }
-  const Pose2d world_in_map = map_in_world.Inverse();
-  for (int row = 0; row < truth.height_cells(); ++row) {
-    for (int col = 0; col < truth.width_cells(); ++col) {
-      if (truth.at({col, row}) != OccupancyGrid::kFree) continue;
-      ++result.truth_free_cells;
-      const CellIndex cell = slam_map.WorldToCell(world_in_map.Transform(truth.CellCenter({col, row})));
-      if (slam_map.ValueOr(cell, OccupancyGrid::kUnknown) != OccupancyGrid::kUnknown) {
-        ++result.truth_free_known;
-      }
-    }
-  }
+  const Coverage coverage = ComputeCoverage(slam_map, map_in_world, truth);
+  result.truth_free_cells = coverage.truth_free_cells;
+  result.truth_free_known = coverage.truth_free_known;
   result.occupied_precision = Ratio(result.occupied_near_wall, result.slam_occupied_cells);
   result.free_precision = Ratio(result.free_truly_free, result.slam_free_cells);
-  result.coverage = Ratio(result.truth_free_known, result.truth_free_cells);
+  result.coverage = coverage.fraction;
   return result;
 }
 

@@ -87,6 +87,16 @@ struct MapAgreement {
   double coverage = 0.0;            // truth_free_known / truth_free_cells (DESIGN §6)
 };
 
+// Coverage alone (DESIGN §6): the share of truly free cells that `slam_map`,
+// placed in the world by `map_in_world`, marks known. Much cheaper than the
+// whole agreement, for a coverage timeline.
+struct Coverage {
+  int64_t truth_free_cells = 0;
+  int64_t truth_free_known = 0;
+  double fraction = 0.0;  // truth_free_known / truth_free_cells (0 if none)
+};
+Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world, const OccupancyGrid& truth);
+
 // Compares `slam_map` (in "map") with `truth` (in "world"), the SLAM map
 // placed in the world by `map_in_world` (the true pose of the first
 // keyframe). Truth cells off the grid count as solid, as in the simulator.
