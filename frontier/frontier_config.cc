@@ -14,6 +14,7 @@ FrontierOptions LoadFrontierOptions(const ConfigReader& c) {
   c.ReadInRange("robot_radius_m", &o.costmap.robot_radius_m, 0.01, 5.0);
 
   const ConfigReader costmap = c.Section("costmap");
+  costmap.ReadInRange("clearance_margin_m", &o.costmap.clearance_margin_m, 0.0, 5.0);
   costmap.ReadInRange("occupied_threshold", &o.costmap.occupied_threshold, 1, 100);
   costmap.Read("unknown_passable", &o.costmap.unknown_passable);
   const ConfigReader planner = c.Section("global_planner");

@@ -28,6 +28,7 @@ TEST(FrontierConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(shipped.target_radius_m, defaults.target_radius_m);
   EXPECT_DOUBLE_EQ(shipped.match_distance_m, defaults.match_distance_m);
   EXPECT_DOUBLE_EQ(shipped.costmap.robot_radius_m, 0.2);
+  EXPECT_DOUBLE_EQ(shipped.costmap.clearance_margin_m, defaults.costmap.clearance_margin_m);
   EXPECT_EQ(shipped.costmap.occupied_threshold, defaults.costmap.occupied_threshold);
   EXPECT_EQ(shipped.costmap.unknown_passable, defaults.costmap.unknown_passable);
   EXPECT_DOUBLE_EQ(shipped.global_planner.start_escape_m, defaults.global_planner.start_escape_m);
@@ -38,6 +39,7 @@ TEST(FrontierConfig, ShippedCostmapMatchesTheNavigators) {
   const FrontierOptions frontier = LoadFrontierOptionsFromFile(kShippedConfig);
   const NavOptions nav = LoadNavOptionsFromFile(kShippedConfig);
   EXPECT_DOUBLE_EQ(frontier.costmap.robot_radius_m, nav.costmap.robot_radius_m);
+  EXPECT_DOUBLE_EQ(frontier.costmap.clearance_margin_m, nav.costmap.clearance_margin_m);
   EXPECT_EQ(frontier.costmap.occupied_threshold, nav.costmap.occupied_threshold);
   EXPECT_EQ(frontier.costmap.unknown_passable, nav.costmap.unknown_passable);
   EXPECT_DOUBLE_EQ(frontier.global_planner.start_escape_m, nav.global_planner.start_escape_m);

@@ -227,8 +227,9 @@ TEST(FindFrontiers, UncertainCellsAreNotFreeUnlessTheThresholdSaysSo) {
 }
 
 TEST(FindFrontiers, TargetOfANarrowDoorwayLiesInTraversableSpaceInside) {
-  // A 0.3 m doorway (6 cells): too narrow for the 0.2 m robot radius, so the
-  // target is the nearest traversable free cell inside the room.
+  // A 0.3 m doorway (6 cells): too narrow for the 0.2 m robot radius (plus
+  // the 0.05 m clearance margin), so the target is the nearest traversable
+  // free cell inside the room.
   OccupancyGrid map = Room();
   EastDoor(&map, 27, 32);
   FrontierOptions options;
@@ -238,11 +239,11 @@ TEST(FindFrontiers, TargetOfANarrowDoorwayLiesInTraversableSpaceInside) {
   const Frontier& f = frontiers[0];
   EXPECT_LT(f.target_m.x_m, 48 * kRes);  // inside the room, west of the wall
   EXPECT_LE(Distance(f.target_m, f.centroid_m), options.target_radius_m);
-  // Centroid (49.5, 30.0) cells. Traversable = more than 4 cells from every
-  // obstacle centre: (45, 29) is 3 + 3 cells from the jamb (48, 26), 4.24 > 4,
-  // (46, 29) only 3.61; of the two nearest, (45, 29) and (45, 30), the first
+  // Centroid (49.5, 30.0) cells. Traversable = more than 5 cells from every
+  // obstacle centre: (43, 29) is 5 + 3 cells from the jamb (48, 26), 5.83 > 5,
+  // (44, 29) exactly 5; of the two nearest, (43, 29) and (43, 30), the first
   // in row order wins.
-  EXPECT_NEAR(f.target_m.x_m, 45.5 * kRes, 1e-9);
+  EXPECT_NEAR(f.target_m.x_m, 43.5 * kRes, 1e-9);
   EXPECT_NEAR(f.target_m.y_m, 29.5 * kRes, 1e-9);
   ExpectTargetsReachable(map, kRoomCentre, frontiers);
 

@@ -31,6 +31,9 @@ void CostmapOptions::Validate() const {
   if (!(robot_radius_m >= 0.0) || !std::isfinite(robot_radius_m)) {
     ThrowBadOption("robot_radius_m", robot_radius_m, "must be finite and >= 0");
   }
+  if (!(clearance_margin_m >= 0.0) || !std::isfinite(clearance_margin_m)) {
+    ThrowBadOption("clearance_margin_m", clearance_margin_m, "must be finite and >= 0");
+  }
   if (!(inflation_margin_m >= 0.0) || !std::isfinite(inflation_margin_m)) {
     ThrowBadOption("inflation_margin_m", inflation_margin_m, "must be finite and >= 0");
   }
@@ -95,8 +98,9 @@ void Costmap::Rebuild(const OccupancyGrid& map, const CostmapOptions& options) {
   // Costs from distances; float comparison so that d == radius (as stored) is inscribed.
   // Distances inside the margin take few values (sqrt of an integer, in cells): the
   // exp of each is computed once, keyed by the squared distance and checked exactly.
-  const float radius_m = static_cast<float>(options_.robot_radius_m);
-  const float outer_m = static_cast<float>(options_.robot_radius_m + options_.inflation_margin_m);
+  const double inscribed_m = options_.robot_radius_m + options_.clearance_margin_m;
+  const float radius_m = static_cast<float>(inscribed_m);
+  const float outer_m = static_cast<float>(inscribed_m + options_.inflation_margin_m);
   const double outer_cells = static_cast<double>(outer_m) / resolution_m_ + 2.0;
   const std::size_t table_size = static_cast<std::size_t>(std::min(outer_cells * outer_cells, 65536.0)) + 1;
   std::vector<float> table_distance(table_size, -1.0f);  // -1: empty slot (distances are >= 0)
@@ -104,7 +108,7 @@ void Costmap::Rebuild(const OccupancyGrid& map, const CostmapOptions& options) {
   auto decayed_cost = [&](float d) {
     return static_cast<uint8_t>(
         std::lround((kInscribed - 1) *
-                    std::exp(-options_.cost_scaling_per_m * (d - options_.robot_radius_m))));
+                    std::exp(-options_.cost_scaling_per_m * (d - inscribed_m))));
   };
   const bool mark_no_go = !options_.unknown_passable;
   for (std::size_t i = 0; i < n; ++i) {

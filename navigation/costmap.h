@@ -1,8 +1,10 @@
 #pragma once
 
 // The global costmap built from a SLAM map (the ROS costmap_2d layering,
-// simplified): occupied cells are lethal, cells within the robot radius of
-// one are inscribed (also impassable for the robot's centre), and a decaying
+// simplified): occupied cells are lethal, cells within the robot radius plus
+// a clearance margin of one are inscribed (impassable for the robot's
+// centre: the margin is the DWA's safety margin, so the planner never routes
+// through a gap the local planner refuses to drive through), and a decaying
 // cost spreads over a further margin; unknown cells are passable at an extra
 // cost, because frontier goals lie at the edge of the unknown. Distances come
 // from OpenCV's distance transform (exact Euclidean, cell centre to the
@@ -10,8 +12,9 @@
 //
 // Cost of a cell at obstacle distance d (metres):
 //   d == 0                      kLethal
-//   0 < d <= robot_radius       kInscribed
-//   d <= radius + margin        round((kInscribed - 1) * exp(-scale * (d - radius)))
+//   r = robot_radius + clearance_margin
+//   0 < d <= r                  kInscribed
+//   d <= r + inflation_margin   round((kInscribed - 1) * exp(-scale * (d - r)))
 //   beyond                      kFree
 // An unknown cell keeps this cost (cost() never includes the unknown penalty;
 // the global planner adds options().unknown_cost itself), or reads kNoGo when
@@ -26,7 +29,8 @@ namespace aslam {
 
 struct CostmapOptions {
   double robot_radius_m = 0.20;
-  double inflation_margin_m = 0.40;  // decaying cost beyond the robot radius
+  double clearance_margin_m = 0.05;  // inscribed up to radius + this: keep equal to the DWA's safety_margin_m
+  double inflation_margin_m = 0.40;  // decaying cost beyond the inscribed zone
   double cost_scaling_per_m = 5.0;   // cost = (kInscribed - 1) * exp(-scale * (d - radius))
   int occupied_threshold = 65;       // map cells >= this are obstacles (1..100)
   bool unknown_passable = true;

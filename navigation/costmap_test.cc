@@ -73,7 +73,7 @@ TEST(CostmapTest, DistanceMatchesBruteForceNearestObstacle) {
 // The documented cost of a cell at obstacle distance d, or -1 when d is too
 // close to a band edge or a rounding tie for float rounding to be decisive.
 int ExpectedCost(double d, const CostmapOptions& o) {
-  const double radius = o.robot_radius_m;
+  const double radius = o.robot_radius_m + o.clearance_margin_m;
   const double outer = radius + o.inflation_margin_m;
   if (d == 0.0) return Costmap::kLethal;
   if (std::abs(d - radius) < 1e-6 || std::abs(d - outer) < 1e-6) return -1;
@@ -91,6 +91,7 @@ TEST(CostmapTest, CostsFollowBruteForceDistance) {
     const OccupancyGrid grid = RandomGrid(rng, 30, 25, 0.01 + 0.005 * (seed % 5), 0.2);
     CostmapOptions options;
     options.robot_radius_m = 0.05 + 0.02 * (seed % 6);
+    options.clearance_margin_m = 0.01 * (seed % 3);
     options.inflation_margin_m = 0.1 + 0.1 * (seed % 4);
     options.cost_scaling_per_m = 2.0 + seed % 7;
     options.unknown_passable = seed % 2 == 0;
@@ -119,23 +120,24 @@ TEST(CostmapTest, CostsFollowBruteForceDistance) {
 TEST(CostmapTest, LethalInscribedAndDecayAtKnownDistances) {
   OccupancyGrid grid(41, 5, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
   grid.at({0, 2}) = OccupancyGrid::kOccupied;
-  CostmapOptions options;  // radius 0.2, margin 0.4, scale 5
+  CostmapOptions options;  // radius 0.2 + clearance 0.05, inflation 0.4, scale 5
   const Costmap costmap(grid, options);
   auto cost_at = [&](int col) { return static_cast<int>(costmap.cost({col, 2})); };
   EXPECT_EQ(cost_at(0), Costmap::kLethal);
   EXPECT_EQ(cost_at(2), Costmap::kInscribed);  // 0.10 m
-  EXPECT_EQ(cost_at(4), Costmap::kInscribed);  // 0.20 m: the radius itself is inscribed
-  EXPECT_EQ(cost_at(5), 196);                  // 0.25 m: 252 e^-0.25 = 196.3
-  EXPECT_EQ(cost_at(10), 56);                  // 0.50 m: 252 e^-1.5 = 56.2
-  EXPECT_EQ(cost_at(12), 34);                  // 0.60 m (outer edge): 252 e^-2 = 34.1
-  EXPECT_EQ(cost_at(13), Costmap::kFree);      // 0.65 m
+  EXPECT_EQ(cost_at(4), Costmap::kInscribed);  // 0.20 m: inside the DWA's safety margin
+  EXPECT_EQ(cost_at(5), Costmap::kInscribed);  // 0.25 m: radius + margin itself is inscribed
+  EXPECT_EQ(cost_at(6), 196);                  // 0.30 m: 252 e^-0.25 = 196.3
+  EXPECT_EQ(cost_at(11), 56);                  // 0.55 m: 252 e^-1.5 = 56.2
+  EXPECT_EQ(cost_at(13), 34);                  // 0.65 m (outer edge): 252 e^-2 = 34.1
+  EXPECT_EQ(cost_at(14), Costmap::kFree);      // 0.70 m
   EXPECT_EQ(cost_at(40), Costmap::kFree);
   EXPECT_NEAR(costmap.ObstacleDistanceM({3, 2}), 0.15, 1e-6);  // stored as float
   EXPECT_NEAR(costmap.ObstacleDistanceM({3, 4}), std::hypot(3, 2) * kRes, 1e-6);
-  EXPECT_FALSE(costmap.Traversable({4, 2}));
-  EXPECT_TRUE(costmap.Traversable({5, 2}));
+  EXPECT_FALSE(costmap.Traversable({5, 2}));
+  EXPECT_TRUE(costmap.Traversable({6, 2}));
   // Decay is monotone over the band.
-  for (int col = 5; col < 13; ++col) EXPECT_GE(cost_at(col), cost_at(col + 1));
+  for (int col = 6; col < 14; ++col) EXPECT_GE(cost_at(col), cost_at(col + 1));
 }
 
 TEST(CostmapTest, OccupiedThresholdDecidesObstacles) {

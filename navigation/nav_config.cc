@@ -84,6 +84,7 @@ void Validate(const ConfigReader& nav, const std::string& name, const Options& o
 }  // namespace
 
 void LoadCostmapOptions(const ConfigReader& c, CostmapOptions* o) {
+  c.ReadInRange("clearance_margin_m", &o->clearance_margin_m, 0.0, 5.0);
   c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
   c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
   c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
@@ -118,6 +119,12 @@ NavOptions LoadNavOptions(const ConfigReader& nav) {
   Validate(nav, nav.KeyPath("global_planner"), options.global_planner);
   Validate(nav, nav.KeyPath("local_obstacles"), options.local_obstacles);
   Validate(nav, nav.KeyPath("dwa"), options.dwa);
+
+  // The planner may only route where the DWA drives: one margin for both.
+  if (options.costmap.clearance_margin_m != options.dwa.safety_margin_m) {
+    costmap.Fail("clearance_margin_m", "must equal dwa.safety_margin_m (" + Number(options.dwa.safety_margin_m) +
+                                           "): the planner would route through gaps the DWA refuses");
+  }
 
   // Rollouts leaving the local window read as blocked: the window must hold the longest one.
   const double reach_m = options.dwa.max_linear_mps * options.dwa.horizon_s + robot_radius_m +

@@ -66,6 +66,10 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
       AllOf(HasSubstr("test.yaml:2"), HasSubstr("nav.goal_tolerance_m"), HasSubstr("'-1'")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa:\n    horizon_s: soon\n"),
               AllOf(HasSubstr("test.yaml:3"), HasSubstr("nav.dwa.horizon_s"), HasSubstr("'soon'")));
+  // The planner's inscribed margin and the DWA's safety margin are one number.
+  EXPECT_THAT(ErrorOf("nav:\n  costmap:\n    clearance_margin_m: 0.02\n"),
+              AllOf(HasSubstr("nav.costmap.clearance_margin_m"), HasSubstr("dwa.safety_margin_m")));
+  EXPECT_EQ(ErrorOf("nav:\n  costmap:\n    clearance_margin_m: 0.02\n  dwa:\n    safety_margin_m: 0.02\n"), "");
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {max_speed: 1}\n"),
               AllOf(HasSubstr("nav.dwa.max_speed"), HasSubstr("unknown key")));
   EXPECT_THAT(ErrorOf("nav:\n  recovery: {back_off_speed_mps: 0}\n"),
