@@ -44,6 +44,7 @@ DEFINE_string(methods, "fd,ags,ours", "bench: comma-separated methods");
 DEFINE_int32(seeds, 15, "bench: seeds 1..N per world and method");
 DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
 DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
+DEFINE_bool(report_only, false, "bench: run nothing; write the tables and figures of the runs already finished");
 
 namespace aslam {
 namespace {
@@ -52,7 +53,7 @@ constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
     "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR\n"
     "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
-    "            [--start X,Y,YAW] [--config FILE] [--noplots] --out DIR\n"
+    "            [--start X,Y,YAW] [--config FILE] [--noplots] [--report_only] --out DIR\n"
     "aslam log-stats RUN/run.lcmlog";
 
 std::atomic<bool> g_stop{false};
@@ -210,6 +211,13 @@ int Bench() {
                 runs.size(), options.worlds.size(), options.methods.size(), options.seeds, options.duration_s,
                 options.jobs, options.out_dir.c_str());
     std::fflush(stdout);
+    if (FLAGS_report_only) {
+      const std::vector<std::string> written = WriteBenchReports(options);
+      std::printf("wrote %s/{", options.out_dir.c_str());
+      for (std::size_t i = 0; i < written.size(); ++i) std::printf("%s%s", i ? "," : "", written[i].c_str());
+      std::printf("} from the finished runs\n");
+      return 0;
+    }
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     const BenchSummary summary =
