@@ -19,6 +19,16 @@
 // An unknown cell keeps this cost (cost() never includes the unknown penalty;
 // the global planner adds options().unknown_cost itself), or reads kNoGo when
 // unknown_passable is false.
+//
+// Incremental updates (Update): a cell's cost depends only on the obstacles
+// within r + inflation_margin of it, so when a new map has the same geometry
+// (or only grew around the old one) and the options are unchanged, only the
+// cells within that band of a cell whose obstacle status changed are
+// recomputed, each from a distance transform over a window grown by the band
+// again (so it sees every obstacle that can decide a recomputed cell). Costs,
+// Traversable, IsUnknown and the raw layers are then bit-identical to a fresh
+// Costmap(map, options); only ObstacleDistanceM may differ, and only beyond
+// the band (see there).
 
 #include <cstdint>
 #include <vector>
@@ -55,6 +65,24 @@ class Costmap {
   // (not reallocated on a map of the same size). Throws like the constructor.
   void Rebuild(const OccupancyGrid& map, const CostmapOptions& options);
 
+  // What Update did.
+  enum class UpdateKind {
+    kUnchanged,    // no cell changed obstacle or unknown status: nothing to do
+    kIncremental,  // recomputed the band around the changed cells only
+    kFull,         // Rebuild: options, resolution or a non-growing geometry changed,
+                   // this costmap was empty, the map is over 2000 cells on a side,
+                   // or the change was too large to pay off
+  };
+  // Brings this costmap to Costmap(map, options): afterwards cost(),
+  // Traversable(), IsUnknown(), costs() and unknown_mask() equal a fresh
+  // costmap's for every cell, whatever sequence of maps came before. Reuses
+  // the previous result when the options are the same and the map has the
+  // same resolution and either the same size and origin or grew around the
+  // previous map by whole cells (the occupancy mapper's growth); otherwise
+  // rebuilds. Distances beyond the cost band may then be stale (see
+  // ObstacleDistanceM). Throws like the constructor.
+  UpdateKind Update(const OccupancyGrid& map, const CostmapOptions& options);
+
   int width_cells() const { return width_cells_; }
   int height_cells() const { return height_cells_; }
   double resolution_m() const { return resolution_m_; }
@@ -74,7 +102,15 @@ class Costmap {
   bool Traversable(CellIndex cell) const { return cost(cell) < kInscribed; }
   bool IsUnknown(CellIndex cell) const;
   // Distance from the cell centre to the nearest obstacle cell centre, metres
-  // (+inf when the map has no obstacle; 0 off the map).
+  // (+inf when the map has no obstacle; 0 off the map). Exact after the
+  // constructor, Rebuild, or an Update that rebuilt. After an incremental
+  // Update it is exact (bit-identical to a fresh costmap's) wherever that
+  // distance, as a float, is <= robot_radius_m + clearance_margin_m +
+  // inflation_margin_m (also as a float: every cell whose cost is not kFree
+  // for its distance); elsewhere it is some value above that bound -- the
+  // earlier map's distance, an upper bound from a window, or +inf -- not
+  // necessarily the current distance. Read distances beyond the band only
+  // from a costmap that was built fresh.
   double ObstacleDistanceM(CellIndex cell) const;
 
   // Row-major raw layers (index LinearIndex(cell)), for tight loops.
@@ -84,6 +120,22 @@ class Costmap {
   const CostmapOptions& options() const { return options_; }
 
  private:
+  struct Box {  // cells [col0, col1) x [row0, row1)
+    int col0, row0, col1, row1;
+  };
+  class CostFunction;  // cost of an obstacle distance (costmap.cc)
+
+  // Cells (Chebyshev) beyond which an obstacle cannot change a cost.
+  int BandCells() const;
+  // Re-lays the layers onto `map`'s grid when it contains the current one at a
+  // whole-cell offset, the new cells reading as unknown, obstacle-free and
+  // far from obstacles, and adds to `boxes` the new cells within the band of
+  // the old grid (where that distance may be wrong); false otherwise.
+  bool GrowInto(const OccupancyGrid& map, std::vector<Box>* boxes);
+  // Recomputes the distances and costs of the cells in `box` from `map`, with
+  // a distance transform over `box` grown by `band` cells.
+  void RecomputeBox(const OccupancyGrid& map, const Box& box, int band, CostFunction& cost);
+
   CostmapOptions options_;
   int width_cells_ = 0;
   int height_cells_ = 0;

@@ -1,9 +1,11 @@
-// Costmap construction and Dijkstra on the campus world (0.05 m/cell).
+// Costmap construction, incremental costmap updates and Dijkstra on the
+// campus world (0.05 m/cell) and a synthetic 1200 x 800-cell map.
 //
 //   build-gp/navigation/global_planner_benchmark
 
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <string>
 
 #include "navigation/costmap.h"
@@ -53,6 +55,79 @@ void BM_CostmapCampus(benchmark::State& state) {
   state.counters["cells"] = static_cast<double>(grid.cells().size());
 }
 BENCHMARK(BM_CostmapCampus)->Unit(benchmark::kMillisecond);
+
+// A 1200 x 800-cell map (60 m x 40 m) of rooms: walls every 100 cells with
+// doors, the east third unknown; and the same with one 40 x 40-cell local
+// change (an L of new wall, a few obstacle cells, unknown revealed as free),
+// the size of what one SLAM update or a set of scan marks changes.
+OccupancyGrid Rooms(bool changed) {
+  OccupancyGrid grid(1200, 800, 0.05, {-10.0, -5.0}, OccupancyGrid::kFree);
+  for (int row = 0; row < 800; ++row) {
+    for (int col = 0; col < 1200; ++col) {
+      const bool wall = (col % 100 < 3 && (row % 100 < 40 || row % 100 > 60)) ||
+                        (row % 100 < 3 && (col % 100 < 40 || col % 100 > 60)) || col >= 1197 ||
+                        row >= 797;
+      if (wall) {
+        grid.at({col, row}) = OccupancyGrid::kOccupied;
+      } else if (col >= 800) {
+        grid.at({col, row}) = OccupancyGrid::kUnknown;
+      }
+    }
+  }
+  if (changed) {
+    const CellIndex corner{780, 420};  // straddles the unknown edge
+    for (int i = 0; i < 40; ++i) {
+      for (int j = 0; j < 40; ++j) {
+        int8_t& value = grid.at({corner.col + i, corner.row + j});
+        if (value < 0) value = OccupancyGrid::kFree;
+      }
+      grid.at({corner.col + i, corner.row + 25}) = OccupancyGrid::kOccupied;
+      grid.at({corner.col + 30, corner.row + i}) = OccupancyGrid::kOccupied;
+      grid.at({corner.col + (i * 7) % 40, corner.row + (i * 13) % 40}) = OccupancyGrid::kOccupied;
+    }
+  }
+  return grid;
+}
+
+// The full rebuild (the layers reused), what every new map cost before Update.
+void BM_CostmapRebuildRooms(benchmark::State& state) {
+  const OccupancyGrid grid = Rooms(false);
+  Costmap costmap(grid, CostmapOptions{});
+  for (auto _ : state) {
+    costmap.Rebuild(grid, CostmapOptions{});
+    benchmark::DoNotOptimize(costmap.costs().data());
+  }
+  state.counters["cells"] = static_cast<double>(grid.cells().size());
+}
+BENCHMARK(BM_CostmapRebuildRooms)->Unit(benchmark::kMillisecond);
+
+// Update with the 40 x 40 change, alternately applied and undone: every
+// iteration is one incremental update of the same size.
+void BM_CostmapUpdateRoomsLocalChange(benchmark::State& state) {
+  const OccupancyGrid grids[2] = {Rooms(false), Rooms(true)};
+  Costmap costmap(grids[0], CostmapOptions{});
+  int next = 1;
+  int64_t incremental = 0;
+  for (auto _ : state) {
+    const Costmap::UpdateKind kind = costmap.Update(grids[next], CostmapOptions{});
+    incremental += kind == Costmap::UpdateKind::kIncremental;
+    next ^= 1;
+    benchmark::DoNotOptimize(costmap.costs().data());
+  }
+  state.counters["incremental"] =
+      benchmark::Counter(static_cast<double>(incremental), benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_CostmapUpdateRoomsLocalChange)->Unit(benchmark::kMillisecond);
+
+// Update with an unchanged map: the cost of finding that nothing changed.
+void BM_CostmapUpdateRoomsUnchanged(benchmark::State& state) {
+  const OccupancyGrid grid = Rooms(false);
+  Costmap costmap(grid, CostmapOptions{});
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(costmap.Update(grid, CostmapOptions{}));
+  }
+}
+BENCHMARK(BM_CostmapUpdateRoomsUnchanged)->Unit(benchmark::kMillisecond);
 
 // One-to-all from the start pose, a fresh tree each time (allocates ~17 MB).
 void BM_SearchAllCampus(benchmark::State& state) {

@@ -88,13 +88,15 @@ void Navigator::UpdateScanMarks() {
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   }
-  // The costmap is a full distance transform: rebuild only when the marks change.
+  // Update only when the marks change (or the map did).
   if (costmap_current_ && cells == marked_cells_) return;
   costmap_current_ = true;
   marked_cells_ = std::move(cells);
   OccupancyGrid marked = map_;
   for (std::size_t index : marked_cells_) marked.mutable_cells()[index] = OccupancyGrid::kOccupied;
-  costmap_ = Costmap(marked, options_.costmap);
+  // Incremental: recomputes only near the cells that changed since the last
+  // costmap (new map cells or marks); costs are those of a fresh Costmap.
+  costmap_.Update(marked, options_.costmap);
 }
 
 void Navigator::SetPose(const StampedPose& pose) { pose_ = pose; }

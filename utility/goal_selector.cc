@@ -161,7 +161,7 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
   GoalDecision decision;
   decision.scores.resize(frontiers.size());
   const UtilityMethod method = options_.method;
-  costmap_.Rebuild(map, options_.costmap);
+  costmap_.Update(map, options_.costmap);  // incremental between maps: same costs as a rebuild
   const Costmap& costmap = costmap_;
   const CellIndex robot_cell = map.WorldToCell({robot.x_m, robot.y_m});
   const double snap_radius_cells = options_.goal_snap_m / map.resolution_m();
