@@ -130,6 +130,14 @@ int Explore() {
       // metrics.json says which mode made it.
       const std::string path = FLAGS_out + "/metrics.json";
       std::ofstream(path, std::ios::binary | std::ios::trunc) << AddModeToMetricsJson(MetricsToJson(result.metrics), "process");
+      // CPU per process and scan-to-command latency, from the run's own log.
+      try {
+        const LogStats stats = ComputeLogStats(FLAGS_out + "/run.lcmlog");
+        std::ofstream(FLAGS_out + "/process_stats.json", std::ios::binary | std::ios::trunc) << LogStatsJson(stats);
+        std::printf("%s", LogStatsTable(stats).c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "aslam explore: no process figures: %s\n", e.what());
+      }
     }
     const RunMetrics& m = result.metrics;
     std::printf("aslam explore: %s after %.1f s simulated (%.1f s wall): coverage %.1f %%, ATE RMSE "
@@ -138,7 +146,7 @@ int Explore() {
                 m.keyframes, m.loop_closures, static_cast<long long>(m.collisions), m.goals_reached,
                 m.goals_failed);
     std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s}\n",
-                FLAGS_out.c_str(), FLAGS_inproc ? "" : ",run.lcmlog,config.yaml,NAME.log");
+                FLAGS_out.c_str(), FLAGS_inproc ? "" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log");
     if (m.end_reason == "procman-exited") {
       std::fprintf(stderr, "aslam explore: aslam-procman ended before the run did: see %s/procman.log and %s/sim.log\n",
                    FLAGS_out.c_str(), FLAGS_out.c_str());
