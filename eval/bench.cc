@@ -83,6 +83,13 @@ std::string MeanStdCell(const MeanStd& m, const char* format) {
 
 std::string ThisSourceDir() { return ASLAM_SOURCE_DIR; }
 
+// 'text' for /bin/sh, whatever it holds (world names come from user folders).
+std::string ShellQuote(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 }  // namespace
 
 double RunRecord::Number(const std::string& key) const {
@@ -514,12 +521,14 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   if (!options.plots) return written;
   std::string methods;
   for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
-  std::string world_list;
+  std::string world_list, all_worlds;
   for (const std::string& w : fig5_worlds) world_list += (world_list.empty() ? "" : ",") + w;
+  for (const std::string& w : worlds) all_worlds += (all_worlds.empty() ? "" : ",") + w;
   // Debian's interpreter, which has python3-matplotlib (a pyenv python3 on PATH may not).
-  const std::string command = "/usr/bin/python3 '" + ThisSourceDir() + "/eval/bench_plots.py' --out '" + out +
-                              "' --methods " + methods + (world_list.empty() ? "" : " --fig5-worlds " + world_list) +
-                              " > '" + out + "/bench.log' 2>&1";
+  const std::string command = "/usr/bin/python3 " + ShellQuote(ThisSourceDir() + "/eval/bench_plots.py") +
+                              " --out " + ShellQuote(out) + " --methods " + ShellQuote(methods) + " --worlds " +
+                              ShellQuote(all_worlds) + " --fig5-worlds " + ShellQuote(world_list) + " > " +
+                              ShellQuote(out + "/bench.log") + " 2>&1";
   if (std::system(command.c_str()) != 0) {
     throw std::runtime_error("plotting failed (python3 eval/bench_plots.py): see " + out + "/bench.log");
   }

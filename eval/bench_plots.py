@@ -42,8 +42,8 @@ def read_curves(path):
     return curves
 
 
-def band_plot(curves, methods, mean_key, std_key, ylabel, title, path, scale=1.0):
-    worlds = list(curves)
+def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, scale=1.0):
+    worlds = [w for w in worlds if w in curves] + [w for w in curves if w not in worlds]
     fig, axes = plt.subplots(1, max(1, len(worlds)), figsize=(6.5 * max(1, len(worlds)), 4.2), squeeze=False)
     for ax, world in zip(axes[0], worlds):
         for method in methods:
@@ -113,13 +113,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", required=True, help="the bench folder (holds curves.csv)")
     parser.add_argument("--methods", default="fd,ags,ours")
+    parser.add_argument("--worlds", default="", help="panel order")
     parser.add_argument("--fig5-worlds", default="")
     args = parser.parse_args()
     methods = [m for m in args.methods.split(",") if m]
     curves = read_curves(os.path.join(args.out, "curves.csv"))
-    band_plot(curves, methods, "d_opt_mean", "d_opt_std", "mean edge D-optimality", "Uncertainty evolution",
+    worlds = [w for w in args.worlds.split(",") if w]
+    band_plot(curves, worlds, methods, "d_opt_mean", "d_opt_std", "mean edge D-optimality", "Uncertainty evolution",
               os.path.join(args.out, "fig3.png"))
-    band_plot(curves, methods, "coverage_mean", "coverage_std", "coverage (%)", "Map discovered",
+    band_plot(curves, worlds, methods, "coverage_mean", "coverage_std", "coverage (%)", "Map discovered",
               os.path.join(args.out, "fig4.png"), scale=100.0)
     for world in [w for w in args.fig5_worlds.split(",") if w]:
         fig5(args.out, world)
