@@ -12,6 +12,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "common/json_text.h"
 #include "aslam/lidar_scan_t.hpp"
 #include "aslam/procman_status_t.hpp"
 #include "aslam/velocity_command_t.hpp"
@@ -86,45 +87,6 @@ struct CpuAccumulator {
   double max_cpu_percent = 0;
   int64_t max_rss_bytes = 0;
 };
-
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buffer[8];
-          std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-          out += buffer;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-// JSON has no NaN or infinity: those become null.
-std::string JsonNumber(double value) {
-  if (!std::isfinite(value)) return "null";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", value);
-  return buffer;
-}
-
-// "{"a": 1, "b": 2}" with the keys in the given order.
-std::string JsonObject(const std::vector<std::pair<std::string, std::string>>& fields) {
-  std::string out = "{";
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    if (i > 0) out += ", ";
-    out += JsonString(fields[i].first) + ": " + fields[i].second;
-  }
-  return out + "}";
-}
 
 // A table cell: the number, or "-" where there is none.
 std::string Cell(double value, const char* format) {
