@@ -63,6 +63,21 @@ void OnSignal(int) {
   std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends at once
 }
 
+// --start into `start` (left empty without the flag); false after printing why it is malformed.
+bool ParseStartFlag(const char* command, std::optional<Pose2d>* start) {
+  if (FLAGS_start.empty()) return true;
+  *start = ParsePose(FLAGS_start);
+  if (*start) return true;
+  std::fprintf(stderr, "aslam %s: --start '%s': expected X,Y,YAW\n", command, FLAGS_start.c_str());
+  return false;
+}
+
+void PrintWritten(const std::string& dir, const std::vector<std::string>& files, const char* suffix) {
+  std::printf("wrote %s/{", dir.c_str());
+  for (std::size_t i = 0; i < files.size(); ++i) std::printf("%s%s", i ? "," : "", files[i].c_str());
+  std::printf("}%s\n", suffix);
+}
+
 void PrintProgress(const ExploreProgress& p, bool terminal) {
   char goal[64] = "none";
   if (p.goal_id >= 0) std::snprintf(goal, sizeof goal, "#%lld (%.1f, %.1f)", static_cast<long long>(p.goal_id), p.goal_m.x_m, p.goal_m.y_m);
@@ -90,13 +105,7 @@ int Explore() {
   options.seed = static_cast<uint64_t>(FLAGS_seed);
   options.config_file = FLAGS_config;
   options.progress_period_s = FLAGS_progress;
-  if (!FLAGS_start.empty()) {
-    options.start = ParsePose(FLAGS_start);
-    if (!options.start) {
-      std::fprintf(stderr, "aslam explore: --start '%s': expected X,Y,YAW\n", FLAGS_start.c_str());
-      return 2;
-    }
-  }
+  if (!ParseStartFlag("explore", &options.start)) return 2;
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     std::signal(SIGINT, OnSignal);
@@ -205,13 +214,7 @@ int Bench() {
     return 1;
   }
   options.aslam_binary.assign(self, length);
-  if (!FLAGS_start.empty()) {
-    options.start = ParsePose(FLAGS_start);
-    if (!options.start) {
-      std::fprintf(stderr, "aslam bench: --start '%s': expected X,Y,YAW\n", FLAGS_start.c_str());
-      return 2;
-    }
-  }
+  if (!ParseStartFlag("bench", &options.start)) return 2;
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     const std::vector<BenchRun> runs = PlanBench(options);
@@ -221,9 +224,7 @@ int Bench() {
     std::fflush(stdout);
     if (FLAGS_report_only) {
       const std::vector<std::string> written = WriteBenchReports(options);
-      std::printf("wrote %s/{", options.out_dir.c_str());
-      for (std::size_t i = 0; i < written.size(); ++i) std::printf("%s%s", i ? "," : "", written[i].c_str());
-      std::printf("} from the finished runs\n");
+      PrintWritten(options.out_dir, written, " from the finished runs");
       return 0;
     }
     std::signal(SIGINT, OnSignal);
@@ -236,9 +237,7 @@ int Bench() {
                 summary.interrupted ? " (interrupted: rerun the same command to resume)" : "");
     for (const std::string& dir : summary.failed) std::fprintf(stderr, "aslam bench: run failed: see %s/explore.log\n", dir.c_str());
     const std::vector<std::string> written = WriteBenchReports(options);
-    std::printf("wrote %s/{", options.out_dir.c_str());
-    for (std::size_t i = 0; i < written.size(); ++i) std::printf("%s%s", i ? "," : "", written[i].c_str());
-    std::printf("}\n");
+    PrintWritten(options.out_dir, written, "");
     if (summary.interrupted) return 130;
     return summary.failed.empty() ? 0 : 1;
   } catch (const std::exception& e) {

@@ -313,14 +313,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
                  : interrupted                                   ? "interrupted"
                  : sim_s >= ex.duration_s - 1.0 || !deputy_ended ? "duration"
                                                                  : "procman-exited";
-  if (on_progress) {
-    ExploreProgress p = progress();
-    p.coverage = m.coverage;
-    p.keyframes = m.keyframes;
-    p.loop_closures = m.loop_closures;
-    p.wall_s = wall_s;
-    on_progress(p);
-  }
+  if (on_progress) on_progress(listener.FinalProgress(m, sim_s, wall_s));
   return result;
 }
 

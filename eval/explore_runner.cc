@@ -127,15 +127,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   m.decisions = utility_node.decisions();
   m.done = listener.done();
   m.end_reason = m.done ? "done" : interrupted ? "interrupted" : "duration";
-  if (on_progress) {
-    ExploreProgress p = progress();
-    p.coverage = m.coverage;
-    p.keyframes = m.keyframes;
-    p.loop_closures = m.loop_closures;
-    p.collisions = m.collisions;
-    p.wall_s = wall_s;
-    on_progress(p);
-  }
+  if (on_progress) on_progress(listener.FinalProgress(m, sim_s, wall_s));
   return result;
 }
 

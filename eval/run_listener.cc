@@ -126,6 +126,15 @@ double RunListener::mean_edge_d_opt() {
   return graph_.edges.empty() ? std::nan("") : mean_edge_d_opt_;
 }
 
+ExploreProgress RunListener::FinalProgress(const RunMetrics& metrics, double sim_s, double wall_s) {
+  ExploreProgress p = Progress(sim_s, wall_s);
+  p.coverage = metrics.coverage;
+  p.keyframes = metrics.keyframes;
+  p.loop_closures = metrics.loop_closures;
+  p.collisions = metrics.collisions;
+  return p;
+}
+
 std::vector<Pose2d> RunListener::Path(const PoseGraph& graph) const {
   std::vector<Pose2d> path;
   path.reserve(path_.size());

@@ -38,6 +38,8 @@ class RunListener {
   // SLAM_POSE re-anchored to `graph`'s keyframes.
   std::vector<Pose2d> Path(const PoseGraph& graph) const;
   ExploreProgress Progress(double sim_s, double wall_s);
+  // The last report of a run: the final graph's and map's figures.
+  ExploreProgress FinalProgress(const RunMetrics& metrics, double sim_s, double wall_s);
 
   bool heard_sim() const { return heard_sim_; }
   int64_t sim_utime() const { return sim_utime_; }
