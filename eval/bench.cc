@@ -441,6 +441,51 @@ std::string CurvesCsv(const std::map<std::pair<std::string, std::string>, std::v
   return out;
 }
 
+std::string CoverageMarkdown(const std::vector<RunRecord>& records,
+                             const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves,
+                             const std::vector<std::string>& worlds, const std::vector<std::string>& methods,
+                             double duration_s) {
+  const std::vector<double> checkpoints_s = {duration_s / 6.0, duration_s / 3.0, duration_s * 2.0 / 3.0, duration_s};
+  std::string out = "| world | method | runs |";
+  for (const double t : checkpoints_s) out += " coverage % at " + Format("%.0f", t) + " s |";
+  out += " median time to 90 % |\n|---|---|---|";
+  for (std::size_t i = 0; i <= checkpoints_s.size(); ++i) out += "---|";
+  out += "\n";
+  for (const std::string& world : worlds) {
+    for (const std::string& method : methods) {
+      std::vector<double> times_s;  // +inf: never reached 90 %
+      for (const RunRecord& r : records) {
+        if (r.run.world_label != world || r.run.method != method) continue;
+        const double t = r.Number("time_to_90_coverage_s");
+        times_s.push_back(std::isfinite(t) ? t : INFINITY);
+      }
+      out += "| " + world + " | " + method + " | " + std::to_string(times_s.size()) + " |";
+      const auto it = curves.find({world, method});
+      for (const double t : checkpoints_s) {
+        // curve[i] holds second i + 1
+        const int i = static_cast<int>(std::lround(t)) - 1;
+        if (it == curves.end() || i < 0 || i >= static_cast<int>(it->second.size())) {
+          out += " – |";
+          continue;
+        }
+        const MeanStd& c = it->second[i].coverage;
+        out += " " + MeanStdCell({100.0 * c.mean, 100.0 * c.std, c.n}, "%.1f") + " |";
+      }
+      if (times_s.empty()) {
+        out += " – |\n";
+        continue;
+      }
+      std::sort(times_s.begin(), times_s.end());
+      const std::size_t n = times_s.size();
+      const double median_s = n % 2 == 1 ? times_s[n / 2] : (times_s[n / 2 - 1] + times_s[n / 2]) / 2.0;
+      const long reached = std::count_if(times_s.begin(), times_s.end(), [](double t) { return std::isfinite(t); });
+      out += " " + (std::isfinite(median_s) ? Format("%.0f s", median_s) : "> " + Format("%.0f s", duration_s)) + " (" +
+             std::to_string(reached) + "/" + std::to_string(n) + " reached) |\n";
+    }
+  }
+  return out;
+}
+
 namespace {
 
 // Fig. 5's inputs for one world: the truth map, the SLAM map of one run on the
@@ -497,6 +542,7 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   write("runs.csv", RunsCsv(records));
   write("table1.md", Table1Markdown(records, worlds, options.methods));
   write("table2.md", Table2Markdown(records, curves, worlds, options.methods));
+  write("coverage.md", CoverageMarkdown(records, curves, worlds, options.methods, options.duration_s));
   write("curves.csv", CurvesCsv(curves));
 
   // Fig. 5 shows our method where it ran (else the last method), its run of median coverage.

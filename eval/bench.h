@@ -5,12 +5,12 @@
 // `aslam explore --inproc` child process writing its own run folder, J at a
 // time; a run whose folder holds a finished metrics.json is skipped, so an
 // interrupted bench resumes where it stopped. Then aggregates every finished
-// run into runs.csv, table1.md, table2.md, curves.csv and the figures
+// run into runs.csv, table1.md, table2.md, coverage.md, curves.csv and the figures
 // (matplotlib, eval/bench_plots.py).
 //
 // Layout of OUT: runs/<world>/<method>/seed_<NN>/ (run folders, with the
 // child's output in explore.log), runs.csv, table1.md, table2.md,
-// curves.csv, fig3.png, fig4.png, fig5_<world>.png (+ fig5_<world>_*.{png,csv}
+// coverage.md, curves.csv, fig3.png, fig4.png, fig5_<world>.png (+ fig5_<world>_*.{png,csv}
 // inputs of that figure), bench.log (the plotting tool's output).
 
 #include <atomic>
@@ -117,6 +117,13 @@ std::string Table2Markdown(const std::vector<RunRecord>& records,
                            const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves,
                            const std::vector<std::string>& worlds, const std::vector<std::string>& methods);
 std::string CurvesCsv(const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves);
+// Coverage % (mean ± std) at 1/6, 1/3, 2/3 and all of the duration (5, 10, 20
+// and 30 min of the paper's 30), and the median time to 90 % coverage over all
+// runs, a run that never reached 90 % counting as later than every run that did.
+std::string CoverageMarkdown(const std::vector<RunRecord>& records,
+                             const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves,
+                             const std::vector<std::string>& worlds, const std::vector<std::string>& methods,
+                             double duration_s);
 
 // Writes every report and figure of the finished runs in `options.out_dir`;
 // returns the files written. Plotting failures throw std::runtime_error

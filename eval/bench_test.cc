@@ -165,6 +165,46 @@ TEST(BenchReportTest, TablesAndCurvesFromKnownRuns) {
             "world_label,run_dir,coverage,algebraic_connectivity,d_opt_reduction_percent,ssim");
 }
 
+// Coverage at a sixth, a third, two thirds and all of the duration, and the
+// median time to 90 % with never-reached runs counted as the latest.
+TEST(BenchReportTest, CoverageTableFromKnownRuns) {
+  const std::string dir = TempDir("coverage");
+  std::vector<RunRecord> records;
+  // (method, seed, time to 90 % or null, coverage series for seconds 1..6)
+  const struct {
+    const char* method;
+    const char* time_to_90;
+    const char* coverage_csv;
+  } runs[] = {
+      {"ours", "3.0", "t_s,coverage\n1,0.2\n2,0.5\n3,0.9\n4,0.9\n5,0.95\n6,0.95\n"},
+      {"ours", "null", "t_s,coverage\n1,0.0\n2,0.3\n3,0.5\n4,0.6\n5,0.7\n6,0.8\n"},
+      {"ours", "5.0", "t_s,coverage\n1,0.1\n2,0.4\n3,0.6\n4,0.7\n5,0.9\n"},  // done at 5 s: holds 0.9
+      {"fd", "4.0", "t_s,coverage\n1,0.5\n2,0.6\n3,0.7\n4,0.9\n5,0.9\n6,0.9\n"},
+      {"fd", "null", "t_s,coverage\n1,0.5\n2,0.6\n3,0.7\n4,0.8\n5,0.8\n6,0.8\n"},
+  };
+  int seed = 0;
+  for (const auto& spec : runs) {
+    RunRecord r;
+    r.run = {"w", "w", spec.method, ++seed, dir + "/run_" + std::to_string(seed)};
+    r.fields = {{"time_to_90_coverage_s", spec.time_to_90}};
+    WriteFile(r.run.dir + "/coverage.csv", spec.coverage_csv);
+    WriteFile(r.run.dir + "/uncertainty.csv", "t_s,mean_edge_d_opt\n");
+    records.push_back(r);
+  }
+  const std::string table = CoverageMarkdown(records, ComputeCurves(records, 6.0), {"w"}, {"fd", "ours"}, 6.0);
+  EXPECT_NE(table.find("| coverage % at 1 s | coverage % at 2 s | coverage % at 4 s | coverage % at 6 s |"),
+            std::string::npos)
+      << table;
+  // ours at 1, 2, 4, 6 s: means 10, 40, 73.3, 88.3 %; sorted times 3, 5, never: median 5 s.
+  EXPECT_NE(table.find("| w | ours | 3 | 10.0 ± 10.0 | 40.0 ± 10.0 | 73.3 ± 15.3 | 88.3 ± 7.6 | 5 s (2/3 reached) |"),
+            std::string::npos)
+      << table;
+  // fd: times 4 and never; the median lies past the end.
+  EXPECT_NE(table.find("| w | fd | 2 | 50.0 ± 0.0 | 60.0 ± 0.0 | 85.0 ± 7.1 | 85.0 ± 7.1 | > 6 s (1/2 reached) |"),
+            std::string::npos)
+      << table;
+}
+
 // The whole command on the test world: 2 seeds x 3 methods, every output,
 // then a resumed bench that skips what is finished.
 TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
@@ -183,8 +223,8 @@ TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
   EXPECT_EQ(first.finished, 6);
   EXPECT_TRUE(first.failed.empty());
   const std::vector<std::string> written = WriteBenchReports(options);
-  for (const std::string name : {"runs.csv", "table1.md", "table2.md", "curves.csv", "fig3.png", "fig4.png",
-                                 "fig5_test.png"}) {
+  for (const std::string name :
+       {"runs.csv", "table1.md", "table2.md", "coverage.md", "curves.csv", "fig3.png", "fig4.png", "fig5_test.png"}) {
     EXPECT_NE(std::find(written.begin(), written.end(), name), written.end()) << name;
     EXPECT_GT(fs::file_size(options.out_dir + "/" + name), 100u) << name;
   }
