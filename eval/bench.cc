@@ -105,6 +105,11 @@ double RunRecord::Number(const std::string& key) const {
   return std::nan("");
 }
 
+std::string ReferenceMethod(const std::vector<std::string>& methods) {
+  if (methods.empty()) return "";
+  return std::find(methods.begin(), methods.end(), "ours") != methods.end() ? "ours" : methods.back();
+}
+
 std::string ResolveWorld(const std::string& world) {
   if (fs::exists(world)) return world;
   const std::string shipped = ThisSourceDir() + "/worlds/" + world;
@@ -441,6 +446,41 @@ std::string CurvesCsv(const std::map<std::pair<std::string, std::string>, std::v
   return out;
 }
 
+namespace {
+
+std::vector<double> ValuesOf(const std::vector<RunRecord>& records, const std::string& world, const std::string& method,
+                             const std::string& key) {
+  std::vector<double> values;
+  for (const RunRecord& r : records) {
+    if (r.run.world_label == world && r.run.method == method) values.push_back(r.Number(key));
+  }
+  return values;
+}
+
+// Time to 90 % coverage per run; +inf for a run that never got there, so it ranks after every run that did.
+std::vector<double> TimesTo90(const std::vector<RunRecord>& records, const std::string& world,
+                              const std::string& method) {
+  std::vector<double> times_s = ValuesOf(records, world, method, "time_to_90_coverage_s");
+  for (double& t : times_s) t = std::isfinite(t) ? t : INFINITY;
+  return times_s;
+}
+
+// Median of the non-NaN values (+inf allowed); NaN if none.
+double Median(std::vector<double> values) {
+  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return std::isnan(v); }), values.end());
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2.0;
+}
+
+std::string TimeCell(double t_s, double duration_s) {
+  if (std::isnan(t_s)) return "–";
+  return std::isfinite(t_s) ? Format("%.0f s", t_s) : "> " + Format("%.0f s", duration_s);
+}
+
+}  // namespace
+
 std::string CoverageMarkdown(const std::vector<RunRecord>& records,
                              const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves,
                              const std::vector<std::string>& worlds, const std::vector<std::string>& methods,
@@ -453,17 +493,11 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records,
   out += "\n";
   for (const std::string& world : worlds) {
     for (const std::string& method : methods) {
-      std::vector<double> times_s;  // +inf: never reached 90 %
-      for (const RunRecord& r : records) {
-        if (r.run.world_label != world || r.run.method != method) continue;
-        const double t = r.Number("time_to_90_coverage_s");
-        times_s.push_back(std::isfinite(t) ? t : INFINITY);
-      }
+      const std::vector<double> times_s = TimesTo90(records, world, method);
       out += "| " + world + " | " + method + " | " + std::to_string(times_s.size()) + " |";
       const auto it = curves.find({world, method});
       for (const double t : checkpoints_s) {
-        // curve[i] holds second i + 1
-        const int i = static_cast<int>(std::lround(t)) - 1;
+        const int i = static_cast<int>(std::lround(t)) - 1;  // curve[i] holds second i + 1
         if (it == curves.end() || i < 0 || i >= static_cast<int>(it->second.size())) {
           out += " – |";
           continue;
@@ -471,16 +505,99 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records,
         const MeanStd& c = it->second[i].coverage;
         out += " " + MeanStdCell({100.0 * c.mean, 100.0 * c.std, c.n}, "%.1f") + " |";
       }
-      if (times_s.empty()) {
-        out += " – |\n";
-        continue;
-      }
-      std::sort(times_s.begin(), times_s.end());
-      const std::size_t n = times_s.size();
-      const double median_s = n % 2 == 1 ? times_s[n / 2] : (times_s[n / 2 - 1] + times_s[n / 2]) / 2.0;
       const long reached = std::count_if(times_s.begin(), times_s.end(), [](double t) { return std::isfinite(t); });
-      out += " " + (std::isfinite(median_s) ? Format("%.0f s", median_s) : "> " + Format("%.0f s", duration_s)) + " (" +
-             std::to_string(reached) + "/" + std::to_string(n) + " reached) |\n";
+      const std::string count = " (" + std::to_string(reached) + "/" + std::to_string(times_s.size()) + " reached)";
+      out += " " + TimeCell(Median(times_s), duration_s) + (times_s.empty() ? "" : count) + " |\n";
+    }
+  }
+  return out;
+}
+
+double MannWhitneyP(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<std::pair<double, bool>> pooled;  // (value, from a)
+  for (const double v : a) {
+    if (!std::isnan(v)) pooled.push_back({v, true});
+  }
+  for (const double v : b) {
+    if (!std::isnan(v)) pooled.push_back({v, false});
+  }
+  std::sort(pooled.begin(), pooled.end());
+  double n1 = 0.0, rank_sum_a = 0.0, tie_term = 0.0;
+  for (std::size_t i = 0; i < pooled.size();) {
+    std::size_t j = i;
+    while (j + 1 < pooled.size() && pooled[j + 1].first == pooled[i].first) ++j;
+    const double rank = (i + j) / 2.0 + 1.0;  // mid-rank of the tie group
+    for (std::size_t k = i; k <= j; ++k) {
+      if (pooled[k].second) {
+        rank_sum_a += rank;
+        n1 += 1.0;
+      }
+    }
+    const double t = static_cast<double>(j - i + 1);
+    tie_term += t * t * t - t;
+    i = j + 1;
+  }
+  const double n = static_cast<double>(pooled.size());
+  const double n2 = n - n1;
+  if (n1 == 0.0 || n2 == 0.0) return std::nan("");
+  const double u = rank_sum_a - n1 * (n1 + 1.0) / 2.0;
+  const double variance = n1 * n2 / 12.0 * ((n + 1.0) - tie_term / (n * (n - 1.0)));
+  if (variance <= 0.0) return 1.0;  // every value tied
+  const double z = std::max(0.0, std::abs(u - n1 * n2 / 2.0) - 0.5) / std::sqrt(variance);
+  return std::min(1.0, std::erfc(z / std::sqrt(2.0)));
+}
+
+std::string ComparisonMarkdown(const std::vector<RunRecord>& records, const std::vector<std::string>& worlds,
+                               const std::vector<std::string>& methods, double duration_s) {
+  const std::string reference = ReferenceMethod(methods);
+  std::vector<std::string> others;
+  for (const std::string& m : methods) {
+    if (m != reference) others.push_back(m);
+  }
+  struct Metric {
+    const char* title;
+    const char* key;  // nullptr: time to 90 % (medians)
+    const char* format;
+  };
+  const std::vector<Metric> metrics = {
+      {"coverage at the end", "coverage", "%.3f"},
+      {"time to 90 % coverage (median)", nullptr, ""},
+      {"A.C", "algebraic_connectivity", "%.3f"},
+      {"avg degree", "average_degree", "%.3f"},
+      {"norm. tree conn.", "normalized_tree_connectivity", "%.3f"},
+      {"SSIM", "ssim", "%.3f"},
+      {"RMSE", "map_rmse", "%.3f"},
+      {"ATE RMSE (m)", "ate_rmse_m", "%.3f"},
+      {"%R per run", "d_opt_reduction_percent", "%.1f"},
+  };
+  std::string out = "| world | metric |";
+  for (const std::string& m : methods) out += " " + m + " |";
+  for (const std::string& m : others) out += " " + reference + " vs " + m + " |";
+  out += "\n|---|---|";
+  for (std::size_t i = 0; i < methods.size() + others.size(); ++i) out += "---|";
+  out += "\n";
+  for (const std::string& world : worlds) {
+    for (const Metric& metric : metrics) {
+      std::map<std::string, std::vector<double>> values;
+      std::map<std::string, double> centre;
+      for (const std::string& m : methods) {
+        values[m] = metric.key ? ValuesOf(records, world, m, metric.key) : TimesTo90(records, world, m);
+        centre[m] = metric.key ? ComputeMeanStd(values[m]).mean : Median(values[m]);
+      }
+      out += "| " + world + " | " + metric.title + " |";
+      for (const std::string& m : methods) {
+        out += " " + (metric.key ? (std::isnan(centre[m]) ? "–" : Format(metric.format, centre[m]))
+                                 : TimeCell(centre[m], duration_s)) +
+               " |";
+      }
+      for (const std::string& m : others) {
+        const double ref = centre[reference], other = centre[m];
+        const double p = MannWhitneyP(values[reference], values[m]);
+        const bool relative = std::isfinite(ref) && std::isfinite(other) && other != 0.0;
+        out += " " + (relative ? Format("%+.1f %%", 100.0 * (ref - other) / std::abs(other)) : std::string("–")) +
+               (std::isnan(p) ? "" : " (p = " + Format("%.2g", p) + ")") + " |";
+      }
+      out += "\n";
     }
   }
   return out;
@@ -543,12 +660,11 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   write("table1.md", Table1Markdown(records, worlds, options.methods));
   write("table2.md", Table2Markdown(records, curves, worlds, options.methods));
   write("coverage.md", CoverageMarkdown(records, curves, worlds, options.methods, options.duration_s));
+  write("comparison.md", ComparisonMarkdown(records, worlds, options.methods, options.duration_s));
   write("curves.csv", CurvesCsv(curves));
 
-  // Fig. 5 shows our method where it ran (else the last method), its run of median coverage.
-  const std::string fig5_method = std::find(options.methods.begin(), options.methods.end(), "ours") != options.methods.end()
-                                      ? "ours"
-                                      : options.methods.back();
+  // Fig. 5 shows the reference method's run of median coverage.
+  const std::string fig5_method = ReferenceMethod(options.methods);
   std::vector<std::string> fig5_worlds;
   for (const std::string& world : worlds) {
     std::vector<const RunRecord*> group;

@@ -5,13 +5,13 @@
 // `aslam explore --inproc` child process writing its own run folder, J at a
 // time; a run whose folder holds a finished metrics.json is skipped, so an
 // interrupted bench resumes where it stopped. Then aggregates every finished
-// run into runs.csv, table1.md, table2.md, coverage.md, curves.csv and the figures
-// (matplotlib, eval/bench_plots.py).
+// run into the reports and figures (matplotlib, eval/bench_plots.py).
 //
 // Layout of OUT: runs/<world>/<method>/seed_<NN>/ (run folders, with the
 // child's output in explore.log), runs.csv, table1.md, table2.md,
-// coverage.md, curves.csv, fig3.png, fig4.png, fig5_<world>.png (+ fig5_<world>_*.{png,csv}
-// inputs of that figure), bench.log (the plotting tool's output).
+// coverage.md, comparison.md, curves.csv, fig3.png, fig4.png,
+// fig5_<world>.png (+ fig5_<world>_*.{png,csv} inputs of that figure),
+// bench.log (the plotting tool's output).
 
 #include <atomic>
 #include <cstdint>
@@ -72,6 +72,9 @@ struct BenchSummary {
   double wall_seconds = 0.0;
 };
 
+// The method the others are compared with: "ours" when it ran, else the last.
+std::string ReferenceMethod(const std::vector<std::string>& methods);
+
 // "office" -> SOURCE/worlds/office when that exists and no such path does.
 std::string ResolveWorld(const std::string& world);
 // runs/<label> name of a world: its folder name or its MAP.yaml's stem.
@@ -97,6 +100,11 @@ struct MeanStd {
   int n = 0;
 };
 MeanStd ComputeMeanStd(const std::vector<double>& values);
+
+// Two-sided Mann–Whitney U test of a against b: the normal approximation with
+// tie and continuity corrections. NaN values are dropped and +inf ranks last;
+// NaN if either sample is empty.
+double MannWhitneyP(const std::vector<double>& a, const std::vector<double>& b);
 
 // Per (world, method) and per simulated second: mean ± std of coverage and of
 // mean edge D-optimality over the runs. A run that ended early (done) holds
@@ -124,6 +132,11 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records,
                              const std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>& curves,
                              const std::vector<std::string>& worlds, const std::vector<std::string>& methods,
                              double duration_s);
+// Per world and metric: each method's mean (the median for time to 90 %), and
+// the reference method against each other one: relative difference and
+// Mann–Whitney p over the runs.
+std::string ComparisonMarkdown(const std::vector<RunRecord>& records, const std::vector<std::string>& worlds,
+                               const std::vector<std::string>& methods, double duration_s);
 
 // Writes every report and figure of the finished runs in `options.out_dir`;
 // returns the files written. Plotting failures throw std::runtime_error

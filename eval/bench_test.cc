@@ -205,6 +205,53 @@ TEST(BenchReportTest, CoverageTableFromKnownRuns) {
       << table;
 }
 
+// Reference p-values from scipy.stats.mannwhitneyu(method="asymptotic"), which
+// uses the same normal approximation with tie and continuity corrections.
+TEST(MannWhitneyTest, MatchesTheNormalApproximation) {
+  EXPECT_NEAR(MannWhitneyP({1, 2, 3}, {4, 5, 6}), 0.08085559837005224, 1e-12);
+  EXPECT_NEAR(MannWhitneyP({4, 5, 6}, {1, 2, 3}), 0.08085559837005224, 1e-12);  // two-sided
+  EXPECT_NEAR(MannWhitneyP({1, 1, 2}, {2, 3, 3}), 0.11014892418594699, 1e-12);  // ties
+  EXPECT_NEAR(MannWhitneyP({3, 5, INFINITY}, {4, INFINITY, INFINITY}), 0.6428348264908044, 1e-12);
+  std::vector<double> low, high;
+  for (int i = 1; i <= 15; ++i) {
+    low.push_back(i);
+    high.push_back(i + 15);
+  }
+  EXPECT_NEAR(MannWhitneyP(low, high), 3.3918213908250945e-06, 1e-15);
+  EXPECT_DOUBLE_EQ(MannWhitneyP({1, 2, 3}, {1, 2, 3}), 1.0);
+  EXPECT_DOUBLE_EQ(MannWhitneyP({2, 2}, {2, 2}), 1.0);
+  EXPECT_NEAR(MannWhitneyP({1, NAN, 2, 3}, {4, 5, 6}), 0.08085559837005224, 1e-12);  // NaN dropped
+  EXPECT_TRUE(std::isnan(MannWhitneyP({}, {1, 2})));
+}
+
+TEST(BenchReportTest, ComparisonAgainstTheReferenceMethod) {
+  std::vector<RunRecord> records;
+  const struct {
+    const char* method;
+    const char* coverage;
+    const char* time_to_90;
+  } runs[] = {{"ours", "0.9", "3"}, {"ours", "0.8", "5"}, {"ours", "1.0", "null"},
+              {"fd", "0.5", "4"},   {"fd", "0.6", "null"}, {"fd", "0.7", "null"}};
+  int seed = 0;
+  for (const auto& spec : runs) {
+    RunRecord r;
+    r.run = {"w", "w", spec.method, ++seed, "unused"};
+    r.fields = {{"coverage", spec.coverage}, {"time_to_90_coverage_s", spec.time_to_90}};
+    records.push_back(r);
+  }
+  EXPECT_EQ(ReferenceMethod({"fd", "ours", "ags"}), "ours");
+  EXPECT_EQ(ReferenceMethod({"fd", "ags"}), "ags");
+  const std::string table = ComparisonMarkdown(records, {"w"}, {"fd", "ours"}, 6.0);
+  EXPECT_NE(table.find("| world | metric | fd | ours | ours vs fd |"), std::string::npos) << table;
+  // Means 0.6 and 0.9: +50 %, and the samples are fully separated (p of 3 vs 3).
+  EXPECT_NE(table.find("| w | coverage at the end | 0.600 | 0.900 | +50.0 % (p = 0.081) |"), std::string::npos)
+      << table;
+  // Medians: fd's lies past the end, so no relative difference; p ranks never-reached runs last.
+  EXPECT_NE(table.find("| w | time to 90 % coverage (median) | > 6 s | 5 s | – (p = 0.64) |"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| w | A.C | – | – | – |"), std::string::npos) << table;  // no values at all
+}
+
 // The whole command on the test world: 2 seeds x 3 methods, every output,
 // then a resumed bench that skips what is finished.
 TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
@@ -224,7 +271,8 @@ TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
   EXPECT_TRUE(first.failed.empty());
   const std::vector<std::string> written = WriteBenchReports(options);
   for (const std::string name :
-       {"runs.csv", "table1.md", "table2.md", "coverage.md", "curves.csv", "fig3.png", "fig4.png", "fig5_test.png"}) {
+       {"runs.csv", "table1.md", "table2.md", "coverage.md", "comparison.md", "curves.csv", "fig3.png", "fig4.png",
+        "fig5_test.png"}) {
     EXPECT_NE(std::find(written.begin(), written.end(), name), written.end()) << name;
     EXPECT_GT(fs::file_size(options.out_dir + "/" + name), 100u) << name;
   }
