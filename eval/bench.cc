@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -360,38 +361,50 @@ std::string RunsCsv(const std::vector<RunRecord>& records) {
   return out;
 }
 
+namespace {
+
+// A per-run metric of metrics.json as a table column.
+struct RunMetric {
+  const char* title;
+  const char* key;
+  const char* format;
+};
+// Table I's columns: the paper's, then final coverage and ATE.
+constexpr RunMetric kTable1Metrics[] = {
+    {"A.C", "algebraic_connectivity", "%.3f"},
+    {"avg degree", "average_degree", "%.3f"},
+    {"norm. tree conn.", "normalized_tree_connectivity", "%.3f"},
+    {"SSIM", "ssim", "%.3f"},
+    {"RMSE", "map_rmse", "%.3f"},
+    {"coverage", "coverage", "%.3f"},
+    {"ATE RMSE (m)", "ate_rmse_m", "%.3f"},
+};
+
+// The metric's value in each run of (world, method), NaN where missing.
+std::vector<double> ValuesOf(const std::vector<RunRecord>& records, const std::string& world, const std::string& method,
+                             const std::string& key) {
+  std::vector<double> values;
+  for (const RunRecord& r : records) {
+    if (r.run.world_label == world && r.run.method == method) values.push_back(r.Number(key));
+  }
+  return values;
+}
+
+}  // namespace
+
 std::string Table1Markdown(const std::vector<RunRecord>& records, const std::vector<std::string>& worlds,
                            const std::vector<std::string>& methods) {
-  struct Column {
-    const char* title;
-    const char* key;
-    const char* format;
-  };
-  const std::vector<Column> columns = {
-      {"A.C", "algebraic_connectivity", "%.3f"},
-      {"avg degree", "average_degree", "%.3f"},
-      {"norm. tree conn.", "normalized_tree_connectivity", "%.3f"},
-      {"SSIM", "ssim", "%.3f"},
-      {"RMSE", "map_rmse", "%.3f"},
-      {"coverage", "coverage", "%.3f"},
-      {"ATE RMSE (m)", "ate_rmse_m", "%.3f"},
-  };
   std::string out = "| world | method | runs |";
-  for (const Column& c : columns) out += std::string(" ") + c.title + " |";
+  for (const RunMetric& c : kTable1Metrics) out += std::string(" ") + c.title + " |";
   out += "\n|---|---|---|";
-  for (std::size_t i = 0; i < columns.size(); ++i) out += "---|";
+  for (std::size_t i = 0; i < std::size(kTable1Metrics); ++i) out += "---|";
   out += "\n";
   for (const std::string& world : worlds) {
     for (const std::string& method : methods) {
-      std::vector<const RunRecord*> group;
-      for (const RunRecord& r : records) {
-        if (r.run.world_label == world && r.run.method == method) group.push_back(&r);
-      }
-      out += "| " + world + " | " + method + " | " + std::to_string(group.size()) + " |";
-      for (const Column& c : columns) {
-        std::vector<double> values;
-        for (const RunRecord* r : group) values.push_back(r->Number(c.key));
-        out += " " + MeanStdCell(ComputeMeanStd(values), c.format) + " |";
+      const std::size_t runs = ValuesOf(records, world, method, "coverage").size();  // one value per run
+      out += "| " + world + " | " + method + " | " + std::to_string(runs) + " |";
+      for (const RunMetric& c : kTable1Metrics) {
+        out += " " + MeanStdCell(ComputeMeanStd(ValuesOf(records, world, method, c.key)), c.format) + " |";
       }
       out += "\n";
     }
@@ -407,10 +420,7 @@ std::string Table2Markdown(const std::vector<RunRecord>& records,
       "|---|---|---|---|---|---|---|\n";
   for (const std::string& world : worlds) {
     for (const std::string& method : methods) {
-      std::vector<double> per_run;
-      for (const RunRecord& r : records) {
-        if (r.run.world_label == world && r.run.method == method) per_run.push_back(r.Number("d_opt_reduction_percent"));
-      }
+      const std::vector<double> per_run = ValuesOf(records, world, method, "d_opt_reduction_percent");
       std::vector<double> mean_curve;
       const auto it = curves.find({world, method});
       if (it != curves.end()) {
@@ -447,15 +457,6 @@ std::string CurvesCsv(const std::map<std::pair<std::string, std::string>, std::v
 }
 
 namespace {
-
-std::vector<double> ValuesOf(const std::vector<RunRecord>& records, const std::string& world, const std::string& method,
-                             const std::string& key) {
-  std::vector<double> values;
-  for (const RunRecord& r : records) {
-    if (r.run.world_label == world && r.run.method == method) values.push_back(r.Number(key));
-  }
-  return values;
-}
 
 // Time to 90 % coverage per run; +inf for a run that never got there, so it ranks after every run that did.
 std::vector<double> TimesTo90(const std::vector<RunRecord>& records, const std::string& world,
@@ -554,22 +555,9 @@ std::string ComparisonMarkdown(const std::vector<RunRecord>& records, const std:
   for (const std::string& m : methods) {
     if (m != reference) others.push_back(m);
   }
-  struct Metric {
-    const char* title;
-    const char* key;  // nullptr: time to 90 % (medians)
-    const char* format;
-  };
-  const std::vector<Metric> metrics = {
-      {"coverage at the end", "coverage", "%.3f"},
-      {"time to 90 % coverage (median)", nullptr, ""},
-      {"A.C", "algebraic_connectivity", "%.3f"},
-      {"avg degree", "average_degree", "%.3f"},
-      {"norm. tree conn.", "normalized_tree_connectivity", "%.3f"},
-      {"SSIM", "ssim", "%.3f"},
-      {"RMSE", "map_rmse", "%.3f"},
-      {"ATE RMSE (m)", "ate_rmse_m", "%.3f"},
-      {"%R per run", "d_opt_reduction_percent", "%.1f"},
-  };
+  std::vector<RunMetric> metrics(std::begin(kTable1Metrics), std::end(kTable1Metrics));
+  metrics.push_back({"time to 90 % coverage (median)", nullptr, ""});  // key nullptr: medians of TimesTo90
+  metrics.push_back({"%R per run", "d_opt_reduction_percent", "%.1f"});
   std::string out = "| world | metric |";
   for (const std::string& m : methods) out += " " + m + " |";
   for (const std::string& m : others) out += " " + reference + " vs " + m + " |";
@@ -577,7 +565,7 @@ std::string ComparisonMarkdown(const std::vector<RunRecord>& records, const std:
   for (std::size_t i = 0; i < methods.size() + others.size(); ++i) out += "---|";
   out += "\n";
   for (const std::string& world : worlds) {
-    for (const Metric& metric : metrics) {
+    for (const RunMetric& metric : metrics) {
       std::map<std::string, std::vector<double>> values;
       std::map<std::string, double> centre;
       for (const std::string& m : methods) {
