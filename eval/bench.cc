@@ -25,7 +25,7 @@
 #include "eval/map_metrics.h"
 #include "slam/g2o_io.h"
 #include "utility/utility_config.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 extern char** environ;
 

@@ -16,8 +16,8 @@
 #include "common/inproc_host.h"
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
-#include "drivers/sim_config.h"
-#include "drivers/sim_node.h"
+#include "drivers/sim/sim_config.h"
+#include "drivers/sim/sim_node.h"
 #include "eval/run_listener.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_lcm.h"
@@ -26,10 +26,10 @@
 #include "navigation/nav_node.h"
 #include "slam/slam_config.h"
 #include "slam/slam_node.h"
-#include "slam/trajectory_eval.h"
+#include "eval/trajectory_metrics.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

@@ -80,7 +80,7 @@ struct RunMetrics {
   std::string end_reason;           // done | duration | interrupted
   std::optional<double> time_to_90_coverage_s;  // first sample at >= 0.9
   double free_area_m2 = 0.0;        // ground-truth free area
-  double occupied_precision = 0.0;  // map agreement of the final map (trajectory_eval.h)
+  double occupied_precision = 0.0;  // map agreement of the final map (trajectory_metrics.h)
   double free_precision = 0.0;
   // DESIGN §6 of the final graph and map (eval/graph_metrics.h, eval/map_metrics.h).
   double average_degree = 0.0;

@@ -7,7 +7,7 @@
 //
 // Frames: the SLAM map is in "map", the truth in "world"; `map_in_world` (the
 // true pose of the first keyframe) places one in the other, as in
-// ComputeMapAgreement (slam/trajectory_eval.h).
+// ComputeMapAgreement (eval/trajectory_metrics.h).
 
 #include <opencv2/core.hpp>
 

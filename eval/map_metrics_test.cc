@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "slam/trajectory_eval.h"
+#include "eval/trajectory_metrics.h"
 
 namespace aslam {
 namespace {

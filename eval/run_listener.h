@@ -18,8 +18,8 @@
 #include "common/pose_graph.h"
 #include "eval/explore_runner.h"
 #include "frontier/frontier.h"
-#include "slam/trajectory_eval.h"
-#include "worlds/worldgen.h"
+#include "eval/trajectory_metrics.h"
+#include "common/world_file.h"
 
 namespace aslam {
 

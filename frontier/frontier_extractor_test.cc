@@ -13,7 +13,7 @@
 
 #include "navigation/costmap.h"
 #include "navigation/global_planner.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

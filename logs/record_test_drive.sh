@@ -17,7 +17,7 @@ lcm-logger --lcm-url="$url" --invert-channels --channel=LCM_SELF_TEST --force --
 logger=$!
 trap 'kill $logger 2>/dev/null || true' EXIT
 sleep 0.5
-build/drivers/aslam-sim --world worlds/test --drive config/drives/test_loop.yaml --duration 30 \
+build/drivers/sim/aslam-sim --world worlds/test --drive config/drives/test_loop.yaml --duration 30 \
   --rate 2 --seed 7 --config config/aslam.yaml --lcm-url "$url" --progress 10
 sleep 0.5
 kill -INT $logger

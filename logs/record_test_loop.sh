@@ -11,5 +11,5 @@ cd "$root"
 build="${BUILD_DIR:-build}"
 out=logs/test_loop.lcmlog
 
-"$build/slam/aslam-slam-bench" --world worlds/test --drive config/drives/test_loop.yaml \
+"$build/eval/aslam-slam-bench" --world worlds/test --drive config/drives/test_loop.yaml \
   --config config/aslam.yaml --seed 7 --noslam --progress 0 --record-log "$out"

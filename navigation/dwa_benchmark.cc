@@ -12,7 +12,7 @@
 
 #include "navigation/dwa_planner.h"
 #include "navigation/local_obstacles.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "navigation/costmap.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

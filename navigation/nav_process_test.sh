@@ -8,7 +8,7 @@ set -uo pipefail
 src="$1"
 build="$2"
 nav="$build/navigation/aslam-nav"
-sim="$build/drivers/aslam-sim"
+sim="$build/drivers/sim/aslam-sim"
 
 port_base=7900
 source "$src/tests/process_test_lib.sh"

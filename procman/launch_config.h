@@ -9,7 +9,7 @@
 //     stop_timeout_s: 3            # TERM, then KILL after this long
 //     processes:
 //       - name: sim                # unique; also the log file name (LOG_DIR/sim.log)
-//         command: ${BUILD}/drivers/aslam-sim   # PATH is searched for a bare name
+//         command: ${BUILD}/drivers/sim/aslam-sim   # PATH is searched for a bare name
 //         args: [--lcm-url, "${LCM_URL}"]
 //         env: {LCM_DEFAULT_URL: "${LCM_URL}"}  # added to the deputy's environment
 //         group: sim               # sheriff commands take a name or a group

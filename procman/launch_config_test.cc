@@ -210,7 +210,7 @@ TEST(LaunchConfigTest, ExploreTemplateRecordsTheBusAndStartsTheSimLast) {
     ASSERT_TRUE(by_name.count(name)) << name;
   }
   EXPECT_EQ(by_name["lcm-logger"]->args.back(), "/o/run.lcmlog");
-  EXPECT_EQ(by_name["sim"]->command, "/b/drivers/aslam-sim");
+  EXPECT_EQ(by_name["sim"]->command, "/b/drivers/sim/aslam-sim");
   EXPECT_EQ(by_name["sim"]->restart, RestartPolicy::kNever);
   for (const auto& p : c.processes) {
     EXPECT_LE(by_name["lcm-logger"]->start_order, p.start_order);

@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Cholesky>
 
-#include "drivers/lidar.h"
-#include "drivers/sim_world.h"
+#include "drivers/sim/lidar.h"
+#include "drivers/sim/sim_world.h"
 
 namespace aslam {
 namespace {

@@ -10,9 +10,9 @@
 
 #include <gtest/gtest.h>
 
-#include "drivers/scripted_drive.h"
-#include "drivers/simulator.h"
-#include "worlds/worldgen.h"
+#include "drivers/sim/scripted_drive.h"
+#include "drivers/sim/simulator.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

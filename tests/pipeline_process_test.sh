@@ -12,7 +12,7 @@ slam="$build/slam/aslam-slam"
 nav="$build/navigation/aslam-nav"
 frontier="$build/frontier/aslam-frontier"
 utility="$build/utility/aslam-utility"
-sim="$build/drivers/aslam-sim"
+sim="$build/drivers/sim/aslam-sim"
 
 port_base=8000
 source "$src/tests/process_test_lib.sh"

@@ -20,9 +20,9 @@
 
 #include "common/channels.h"
 #include "common/inproc_host.h"
-#include "drivers/scripted_drive.h"
-#include "drivers/sim_config.h"
-#include "drivers/sim_node.h"
+#include "drivers/sim/scripted_drive.h"
+#include "drivers/sim/sim_config.h"
+#include "drivers/sim/sim_node.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_node.h"
 #include "navigation/nav_config.h"
@@ -31,7 +31,7 @@
 #include "slam/slam_node.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

@@ -8,14 +8,14 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
-#include "drivers/scripted_drive.h"
-#include "drivers/sim_config.h"
-#include "drivers/simulator.h"
+#include "drivers/sim/scripted_drive.h"
+#include "drivers/sim/sim_config.h"
+#include "drivers/sim/simulator.h"
 #include "frontier/frontier_config.h"
 #include "navigation/nav_config.h"
 #include "slam/slam_config.h"
 #include "utility/utility_config.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

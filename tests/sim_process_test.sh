@@ -7,7 +7,7 @@
 set -uo pipefail
 src="$1"
 build="$2"
-sim="$build/drivers/aslam-sim"
+sim="$build/drivers/sim/aslam-sim"
 
 port_base=7800
 source "$src/tests/process_test_lib.sh"

@@ -28,8 +28,8 @@
 #include "slam/occupancy_mapper.h"
 #include "slam/slam_config.h"
 #include "slam/slam_node.h"
-#include "slam/trajectory_eval.h"
-#include "worlds/worldgen.h"
+#include "eval/trajectory_metrics.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

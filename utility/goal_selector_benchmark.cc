@@ -35,7 +35,7 @@
 #include "utility/hallucination.h"
 #include "utility/path_entropy.h"
 #include "utility/spanning_trees.h"
-#include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 namespace aslam {
 namespace {

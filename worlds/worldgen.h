@@ -3,7 +3,7 @@
 // Office-like floor plans for the simulator: a grid of corridors (every block
 // of rooms between four corridors is a loop), rooms along them with doors,
 // furniture in the rooms, scaled until the reachable free area matches a
-// target. Also the loader for the world folders the generator writes:
+// target, written as a world folder (loaded by common/world_file.h):
 //
 //   DIR/map.yaml, DIR/map.pgm   ground truth, ROS map_server format
 //   DIR/world.yaml              start pose, free area, generator parameters
@@ -100,20 +100,5 @@ std::string RegenerateCommand(const WorldgenOptions& options, const std::string&
 void WriteWorld(const GeneratedWorld& world, const WorldgenOptions& options,
                 const std::string& name, const std::string& out_dir,
                 const std::string& regenerate_command);
-
-struct WorldInfo {
-  std::string map_yaml_path;
-  std::string world_yaml_path;  // empty for a bare map
-  bool has_start = false;       // a bare map has no start
-  Pose2d start;
-  double free_area_m2 = 0.0;  // from world.yaml; for a bare map its free cells
-  LoadedMap map;
-};
-
-// Loads a world folder (DIR/world.yaml naming its map, map.yaml by default),
-// a world.yaml path, or a bare map YAML. Throws std::runtime_error naming the
-// file and key (a bad map throws MapFileError), also if the start is not on a
-// free cell of the map.
-WorldInfo LoadWorld(const std::string& dir_or_yaml);
 
 }  // namespace aslam

@@ -1,3 +1,4 @@
+#include "common/world_file.h"
 #include "worlds/worldgen.h"
 
 #include <sys/wait.h>

@@ -1,0 +1,195 @@
+#include "drivers/sim/simulator.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace aslam {
+namespace {
+
+constexpr double kMicrosecondsPerSecond = 1e6;
+
+[[noreturn]] void ThrowBadOption(const std::string& name, double value, const std::string& why) {
+  std::ostringstream message;
+  message << "SimulatorOptions: " << name << " = " << value << ": " << why;
+  throw std::invalid_argument(message.str());
+}
+
+void RequirePositive(const std::string& name, double value) {
+  if (!(std::isfinite(value) && value > 0.0)) ThrowBadOption(name, value, "must be finite and > 0");
+}
+
+void RequireNonNegative(const std::string& name, double value) {
+  if (!(std::isfinite(value) && value >= 0.0)) {
+    ThrowBadOption(name, value, "must be finite and >= 0");
+  }
+}
+
+// A rate's period in whole microseconds; throws if it is not whole.
+int64_t PeriodUs(const std::string& name, double rate_hz) {
+  RequirePositive(name, rate_hz);
+  const double period_us = kMicrosecondsPerSecond / rate_hz;
+  const int64_t rounded = std::llround(period_us);
+  if (rounded < 1 || std::abs(period_us - static_cast<double>(rounded)) > 1e-6) {
+    ThrowBadOption(name, rate_hz, "period is not a whole number of microseconds");
+  }
+  return rounded;
+}
+
+// An output period that is a whole number of physics steps.
+int64_t OutputPeriodUs(const std::string& name, double rate_hz, const SimulatorOptions& options) {
+  const int64_t physics_period_us = PeriodUs("physics_rate_hz", options.physics_rate_hz);
+  const int64_t period_us = PeriodUs(name, rate_hz);
+  if (period_us % physics_period_us != 0) {
+    std::ostringstream why;
+    why << "must divide physics_rate_hz = " << options.physics_rate_hz << " (period " << period_us
+        << " us is not a multiple of the " << physics_period_us << " us physics step)";
+    ThrowBadOption(name, rate_hz, why.str());
+  }
+  return period_us;
+}
+
+// Two engines from one seed: a seed_seq mixes the stream id into the whole state.
+std::mt19937_64 MakeStream(uint64_t seed, uint32_t stream) {
+  std::seed_seq sequence{static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32), stream};
+  return std::mt19937_64(sequence);
+}
+
+// Lets the constructor validate before any member is built from the options.
+const SimulatorOptions& Validated(const SimulatorOptions& options) {
+  ValidateSimulatorOptions(options);
+  return options;
+}
+
+constexpr uint32_t kLidarStream = 1;
+constexpr uint32_t kOdometryStream = 2;
+
+}  // namespace
+
+void ValidateSimulatorOptions(const SimulatorOptions& options) {
+  OutputPeriodUs("odometry_rate_hz", options.odometry_rate_hz, options);
+  OutputPeriodUs("truth_rate_hz", options.truth_rate_hz, options);
+  OutputPeriodUs("status_rate_hz", options.status_rate_hz, options);
+  OutputPeriodUs("lidar.rate_hz", options.lidar.rate_hz, options);
+  RequirePositive("command_timeout_s", options.command_timeout_s);
+
+  const LidarOptions& lidar = options.lidar;
+  if (lidar.num_beams < 1) ThrowBadOption("lidar.num_beams", lidar.num_beams, "must be >= 1");
+  if (!std::isfinite(lidar.angle_min_rad)) {
+    ThrowBadOption("lidar.angle_min_rad", lidar.angle_min_rad, "must be finite");
+  }
+  RequirePositive("lidar.fov_rad", lidar.fov_rad);
+  if (lidar.fov_rad > 2.0 * M_PI + 1e-9) {
+    ThrowBadOption("lidar.fov_rad", lidar.fov_rad, "must be <= 2 pi");
+  }
+  RequireNonNegative("lidar.range_min_m", lidar.range_min_m);
+  RequirePositive("lidar.range_max_m", lidar.range_max_m);
+  if (lidar.range_min_m >= lidar.range_max_m) {
+    ThrowBadOption("lidar.range_min_m", lidar.range_min_m, "must be < lidar.range_max_m");
+  }
+  RequireNonNegative("lidar.noise_sigma_m", lidar.noise_sigma_m);
+  RequireNonNegative("lidar.noise_sigma_fraction", lidar.noise_sigma_fraction);
+  if (!(lidar.dropout_probability >= 0.0 && lidar.dropout_probability <= 1.0)) {
+    ThrowBadOption("lidar.dropout_probability", lidar.dropout_probability, "must be in [0, 1]");
+  }
+
+  const DiffDriveOptions& base = options.base;
+  RequirePositive("base.radius_m", base.radius_m);
+  RequirePositive("base.max_linear_mps", base.max_linear_mps);
+  RequirePositive("base.max_angular_radps", base.max_angular_radps);
+  RequirePositive("base.max_linear_accel_mps2", base.max_linear_accel_mps2);
+  RequirePositive("base.max_angular_accel_radps2", base.max_angular_accel_radps2);
+
+  const OdometryNoiseOptions& noise = options.odometry_noise;
+  RequireNonNegative("odometry_noise.alpha1", noise.alpha1);
+  RequireNonNegative("odometry_noise.alpha2", noise.alpha2);
+  RequireNonNegative("odometry_noise.alpha3", noise.alpha3);
+  RequireNonNegative("odometry_noise.alpha4", noise.alpha4);
+}
+
+Simulator::Simulator(const OccupancyGrid& world_map, const Pose2d& start_in_world,
+                     const SimulatorOptions& options)
+    : options_(Validated(options)),
+      world_(world_map),
+      lidar_(options.lidar),
+      odometry_model_(options.odometry_noise),
+      base_(options.base, start_in_world),
+      physics_period_us_(PeriodUs("physics_rate_hz", options.physics_rate_hz)),
+      odometry_period_us_(PeriodUs("odometry_rate_hz", options.odometry_rate_hz)),
+      truth_period_us_(PeriodUs("truth_rate_hz", options.truth_rate_hz)),
+      lidar_period_us_(PeriodUs("lidar.rate_hz", options.lidar.rate_hz)),
+      status_period_us_(PeriodUs("status_rate_hz", options.status_rate_hz)),
+      command_timeout_us_(std::llround(options.command_timeout_s * kMicrosecondsPerSecond)),
+      lidar_rng_(MakeStream(options.seed, kLidarStream)),
+      odometry_rng_(MakeStream(options.seed, kOdometryStream)),
+      true_pose_at_last_odometry_(start_in_world) {
+  if (world_.CircleCollides({start_in_world.x_m, start_in_world.y_m}, options.base.radius_m)) {
+    std::ostringstream message;
+    message << "Simulator: start pose " << start_in_world
+            << " with base.radius_m = " << options.base.radius_m
+            << " overlaps a wall, unknown space or the map edge";
+    throw std::invalid_argument(message.str());
+  }
+}
+
+void Simulator::SetCommand(const VelocityCommand& command) {
+  command_ = command;
+  ++status_.commands_received;
+}
+
+SimStatus Simulator::status() const {
+  SimStatus status = status_;
+  status.utime = utime_;
+  return status;
+}
+
+SimStepOutput Simulator::Step() {
+  // The command in force during [utime, utime + step) is judged at the step's start.
+  Twist2d target;
+  status_.command_stale = !command_ || utime_ - command_->utime > command_timeout_us_;
+  if (!status_.command_stale) target = {command_->linear_mps, command_->angular_radps};
+
+  const double dt_s = physics_period_us_ / kMicrosecondsPerSecond;
+  const DiffDriveStepResult moved = base_.Step(target, dt_s, world_);
+  utime_ += physics_period_us_;
+  ++status_.ticks;
+
+  const Pose2d& pose = base_.pose();
+  if (moved.collided) {
+    if (!status_.in_collision) ++status_.collisions;
+    status_.in_collision = true;
+  } else if (status_.in_collision &&
+             !world_.CircleCollides({pose.x_m, pose.y_m},
+                                    options_.base.radius_m + kContactReleaseMarginM)) {
+    status_.in_collision = false;
+  }
+
+  SimStepOutput out;
+  if (utime_ % odometry_period_us_ == 0) {
+    const Pose2d true_delta = true_pose_at_last_odometry_.Between(pose);
+    const Pose2d noisy_delta = odometry_model_.NoisyDelta(true_delta, odometry_rng_);
+    odom_pose_ = odom_pose_ * noisy_delta;
+    true_pose_at_last_odometry_ = pose;
+    const double period_s = odometry_period_us_ / kMicrosecondsPerSecond;
+    Odometry odometry;
+    odometry.utime = utime_;
+    odometry.seq = odometry_seq_++;
+    odometry.pose = odom_pose_;
+    odometry.linear_velocity_mps = OdometryModel::Decompose(noisy_delta).trans_m / period_s;
+    odometry.angular_velocity_radps = noisy_delta.yaw_rad / period_s;
+    out.odometry = odometry;
+  }
+  if (utime_ % truth_period_us_ == 0) {
+    out.truth =
+        StampedPose{utime_, pose, base_.velocity().linear_mps, base_.velocity().angular_radps};
+  }
+  if (utime_ % lidar_period_us_ == 0) {
+    out.scan = lidar_.Scan(world_, pose, utime_, status_.scans_published, lidar_rng_);
+    ++status_.scans_published;
+  }
+  if (utime_ % status_period_us_ == 0) out.status = status();
+  return out;
+}
+
+}  // namespace aslam

@@ -1,0 +1,299 @@
+#include "drivers/sim/simulator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace aslam {
+namespace {
+
+// Free interior [0, 10] x [0, 8] inside one-cell walls, with a pillar at
+// [6, 7] x [5, 6] so scans are not all alike.
+OccupancyGrid MakeWorld() {
+  OccupancyGrid grid(202, 162, 0.05, {-0.05, -0.05}, OccupancyGrid::kFree);
+  for (int col = 0; col < 202; ++col) grid.at({col, 0}) = grid.at({col, 161}) = 100;
+  for (int row = 0; row < 162; ++row) grid.at({0, row}) = grid.at({201, row}) = 100;
+  for (int row = 101; row < 121; ++row) {
+    for (int col = 121; col < 141; ++col) grid.at({col, row}) = 100;
+  }
+  return grid;
+}
+
+VelocityCommand Command(const Simulator& sim, double linear_mps, double angular_radps) {
+  return {sim.utime(), linear_mps, angular_radps};
+}
+
+// Expects the constructor to throw std::invalid_argument mentioning `name`.
+void ExpectRejected(const SimulatorOptions& options, const std::string& name) {
+  try {
+    Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+    ADD_FAILURE() << "no exception for " << name;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+  }
+}
+
+TEST(SimulatorTest, RejectsRatesThatDoNotDivideThePhysicsRate) {
+  SimulatorOptions options;
+  options.lidar.rate_hz = 30.0;
+  ExpectRejected(options, "lidar.rate_hz");
+  options = {};
+  options.odometry_rate_hz = 40.0;  // 25000 us is not a multiple of 10000 us
+  ExpectRejected(options, "odometry_rate_hz");
+  options = {};
+  options.truth_rate_hz = 200.0;  // faster than physics
+  ExpectRejected(options, "truth_rate_hz");
+  options = {};
+  options.status_rate_hz = 0.0;
+  ExpectRejected(options, "status_rate_hz");
+  options = {};
+  options.physics_rate_hz = 300.0;  // 3333.3 us
+  ExpectRejected(options, "physics_rate_hz");
+  options = {};
+  options.base.radius_m = -0.1;
+  ExpectRejected(options, "base.radius_m");
+  options = {};
+  options.lidar.dropout_probability = 1.5;
+  ExpectRejected(options, "lidar.dropout_probability");
+  options = {};
+  options.lidar.range_min_m = 20.0;
+  ExpectRejected(options, "lidar.range_min_m");
+  options = {};
+  options.odometry_noise.alpha3 = -1.0;
+  ExpectRejected(options, "odometry_noise.alpha3");
+  options = {};
+  options.physics_rate_hz = 200.0;
+  options.lidar.rate_hz = 40.0;
+  EXPECT_NO_THROW(Simulator(MakeWorld(), {2.0, 2.0, 0.0}, options));
+}
+
+TEST(SimulatorTest, RejectsAStartPoseInAWall) {
+  EXPECT_THROW(Simulator(MakeWorld(), {0.1, 2.0, 0.0}, SimulatorOptions{}), std::invalid_argument);
+  EXPECT_THROW(Simulator(MakeWorld(), {6.5, 5.5, 0.0}, SimulatorOptions{}), std::invalid_argument);
+  EXPECT_THROW(Simulator(MakeWorld(), {-3.0, 2.0, 0.0}, SimulatorOptions{}), std::invalid_argument);
+}
+
+TEST(SimulatorTest, OutputsAreDueAtTheirPeriods) {
+  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, SimulatorOptions{});
+  EXPECT_EQ(sim.utime(), 0);
+  int odometry = 0, truth = 0, scans = 0, status = 0;
+  for (int step = 1; step <= 300; ++step) {
+    const SimStepOutput out = sim.Step();
+    const int64_t now = step * 10000;
+    ASSERT_EQ(sim.utime(), now);
+    EXPECT_EQ(out.odometry.has_value(), now % 20000 == 0) << now;
+    EXPECT_EQ(out.truth.has_value(), now % 20000 == 0) << now;
+    EXPECT_EQ(out.scan.has_value(), now % 100000 == 0) << now;
+    EXPECT_EQ(out.status.has_value(), now % 1000000 == 0) << now;
+    if (out.odometry) {
+      EXPECT_EQ(out.odometry->utime, now);
+      EXPECT_EQ(out.odometry->seq, odometry);
+      ++odometry;
+    }
+    if (out.truth) {
+      EXPECT_EQ(out.truth->utime, now);
+      ++truth;
+    }
+    if (out.scan) {
+      EXPECT_EQ(out.scan->utime, now);
+      EXPECT_EQ(out.scan->seq, scans);
+      EXPECT_EQ(out.scan->range_m.size(), 720u);
+      ++scans;
+    }
+    if (out.status) {
+      EXPECT_EQ(out.status->utime, now);
+      EXPECT_EQ(out.status->ticks, step);
+      EXPECT_EQ(out.status->scans_published, scans);
+      ++status;
+    }
+  }
+  EXPECT_EQ(odometry, 150);
+  EXPECT_EQ(truth, 150);
+  EXPECT_EQ(scans, 30);
+  EXPECT_EQ(status, 3);
+  EXPECT_EQ(sim.ticks(), 300);
+}
+
+TEST(SimulatorTest, StandsStillWithoutACommandAndStopsWhenItGoesStale) {
+  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, SimulatorOptions{});
+  for (int i = 0; i < 50; ++i) sim.Step();
+  EXPECT_TRUE(sim.command_stale());
+  EXPECT_EQ(sim.true_pose().x_m, 2.0);
+
+  sim.SetCommand(Command(sim, 0.4, 0.0));
+  sim.Step();
+  EXPECT_FALSE(sim.command_stale());
+  EXPECT_GT(sim.true_velocity().linear_mps, 0.0);
+  // Valid for 0.5 s of its own time: at 0.5 s still driving, then the base brakes.
+  for (int i = 1; i < 50; ++i) sim.Step();
+  EXPECT_FALSE(sim.command_stale());
+  EXPECT_NEAR(sim.true_velocity().linear_mps, 0.4, 1e-12);
+  sim.Step();
+  EXPECT_FALSE(sim.command_stale());  // judged at the step start: exactly 0.5 s old
+  sim.Step();
+  EXPECT_TRUE(sim.command_stale());
+  EXPECT_LT(sim.true_velocity().linear_mps, 0.4);
+  for (int i = 0; i < 50; ++i) sim.Step();
+  EXPECT_EQ(sim.true_velocity().linear_mps, 0.0);
+  const double stopped_x = sim.true_pose().x_m;
+  for (int i = 0; i < 50; ++i) sim.Step();
+  EXPECT_EQ(sim.true_pose().x_m, stopped_x);
+  EXPECT_TRUE(sim.status().command_stale);
+  EXPECT_EQ(sim.status().commands_received, 1);
+
+  // A fresh command drives again; an old one is stale at once.
+  sim.SetCommand(Command(sim, 0.2, 0.0));
+  sim.Step();
+  EXPECT_FALSE(sim.command_stale());
+  sim.SetCommand({sim.utime() - 600000, 0.2, 0.0});
+  sim.Step();
+  EXPECT_TRUE(sim.command_stale());
+}
+
+TEST(SimulatorTest, CollisionsCountOncePerContact) {
+  SimulatorOptions options;
+  Simulator sim(MakeWorld(), {8.0, 2.0, 0.0}, options);  // wall face at x = 10
+  auto drive = [&](double v, int steps) {
+    for (int i = 0; i < steps; ++i) {
+      sim.SetCommand(Command(sim, v, 0.0));
+      sim.Step();
+    }
+  };
+  drive(0.5, 600);  // reaches the wall after ~3.7 s and keeps pushing
+  EXPECT_EQ(sim.collisions(), 1);
+  EXPECT_TRUE(sim.in_collision());
+  EXPECT_NEAR(10.0 - sim.true_pose().x_m, options.base.radius_m, 0.01);
+  EXPECT_EQ(sim.true_velocity().linear_mps, 0.0);
+  EXPECT_TRUE(sim.status().in_collision);
+
+  // Standing at the wall is still the same contact.
+  drive(0.0, 100);
+  EXPECT_TRUE(sim.in_collision());
+  EXPECT_EQ(sim.collisions(), 1);
+
+  drive(-0.3, 100);
+  EXPECT_FALSE(sim.in_collision());
+  EXPECT_EQ(sim.collisions(), 1);
+
+  drive(0.5, 300);
+  EXPECT_EQ(sim.collisions(), 2);
+  EXPECT_TRUE(sim.in_collision());
+  EXPECT_EQ(sim.status().collisions, 2);
+}
+
+TEST(SimulatorTest, NoiselessOdometryEqualsTruthInTheOdomFrame) {
+  SimulatorOptions options;
+  options.odometry_noise = {0.0, 0.0, 0.0, 0.0};
+  const Pose2d start{2.0, 3.0, 0.7};
+  Simulator sim(MakeWorld(), start, options);
+  int checked = 0;
+  for (int i = 0; i < 1000; ++i) {
+    sim.SetCommand(Command(sim, 0.3, 0.6 * std::sin(0.01 * i)));
+    const SimStepOutput out = sim.Step();
+    if (!out.odometry) continue;
+    const Pose2d expected = start.Between(sim.true_pose());
+    EXPECT_NEAR(out.odometry->pose.x_m, expected.x_m, 1e-9);
+    EXPECT_NEAR(out.odometry->pose.y_m, expected.y_m, 1e-9);
+    EXPECT_NEAR(std::remainder(out.odometry->pose.yaw_rad - expected.yaw_rad, 2 * M_PI), 0.0, 1e-9);
+    // Velocities implied by the (here exact) 20 ms delta: the chord over the period.
+    EXPECT_NEAR(out.odometry->linear_velocity_mps, sim.true_velocity().linear_mps, 0.02);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 500);
+  EXPECT_FALSE(sim.in_collision());
+}
+
+TEST(SimulatorTest, NoisyOdometryDrifts) {
+  SimulatorOptions options;
+  const Pose2d start{2.0, 3.0, 0.0};
+  Simulator sim(MakeWorld(), start, options);
+  for (int i = 0; i < 1500; ++i) {
+    sim.SetCommand(Command(sim, 0.3, 0.5));
+    sim.Step();
+  }
+  const Pose2d truth_in_odom = start.Between(sim.true_pose());
+  const double drift =
+      std::hypot(sim.odom_pose().x_m - truth_in_odom.x_m, sim.odom_pose().y_m - truth_in_odom.y_m);
+  EXPECT_GT(drift, 1e-3);
+  EXPECT_LT(drift, 1.0);
+}
+
+// Every scan range and odometry pose of a 2000-step run, as raw bytes.
+std::string Record(uint64_t seed, const LidarOptions& lidar = {}) {
+  SimulatorOptions options;
+  options.seed = seed;
+  options.lidar = lidar;
+  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, options);
+  std::string bytes;
+  auto append = [&bytes](const void* data, std::size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
+  for (int i = 0; i < 2000; ++i) {
+    // Drives, turns, and hits walls along the way.
+    sim.SetCommand(Command(sim, 0.5, (i / 300) % 2 == 0 ? 0.2 : -1.0));
+    const SimStepOutput out = sim.Step();
+    if (out.scan) append(out.scan->range_m.data(), out.scan->range_m.size() * sizeof(float));
+    if (out.odometry) {
+      append(&out.odometry->pose, sizeof(Pose2d));
+      append(&out.odometry->linear_velocity_mps, sizeof(double));
+      append(&out.odometry->angular_velocity_radps, sizeof(double));
+    }
+    if (out.truth) append(&out.truth->pose, sizeof(Pose2d));
+  }
+  return bytes;
+}
+
+std::string RecordOdometry(uint64_t seed, const LidarOptions& lidar) {
+  SimulatorOptions options;
+  options.seed = seed;
+  options.lidar = lidar;
+  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, options);
+  std::string bytes;
+  for (int i = 0; i < 500; ++i) {
+    sim.SetCommand(Command(sim, 0.4, 0.3));
+    const SimStepOutput out = sim.Step();
+    if (out.odometry) {
+      bytes.append(reinterpret_cast<const char*>(&out.odometry->pose), sizeof(Pose2d));
+    }
+  }
+  return bytes;
+}
+
+TEST(SimulatorTest, SameSeedGivesBitIdenticalOutputs) {
+  const std::string a = Record(17), b = Record(17), c = Record(18);
+  EXPECT_GT(a.size(), 20 * 720 * sizeof(float));
+  EXPECT_TRUE(a == b);
+  EXPECT_FALSE(a == c);
+  EXPECT_EQ(a.size(), c.size());
+}
+
+TEST(SimulatorTest, LidarOptionsDoNotChangeTheOdometryNoise) {
+  LidarOptions other;
+  other.num_beams = 90;
+  other.dropout_probability = 0.3;
+  EXPECT_EQ(RecordOdometry(5, LidarOptions{}), RecordOdometry(5, other));
+  EXPECT_NE(RecordOdometry(5, LidarOptions{}), RecordOdometry(6, LidarOptions{}));
+}
+
+TEST(SimulatorTest, TruthAndScanFollowTheTruePose) {
+  SimulatorOptions options;
+  options.lidar.noise_sigma_m = 0.0;
+  options.lidar.noise_sigma_fraction = 0.0;
+  options.lidar.dropout_probability = 0.0;
+  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+  SimStepOutput out;
+  for (int i = 0; i < 10; ++i) out = sim.Step();
+  ASSERT_TRUE(out.scan && out.truth);
+  EXPECT_EQ(out.truth->pose.x_m, 2.0);
+  // Beam 360 looks along +x from (2, 2): the wall face at x = 10.
+  EXPECT_NEAR(out.scan->range_m[360], 8.0, 1e-5);
+  // Beam 540 looks along +y: 6 m to the top wall at y = 8.
+  EXPECT_NEAR(out.scan->range_m[540], 6.0, 1e-5);
+  EXPECT_EQ(sim.world().map().width_cells(), 202);
+}
+
+}  // namespace
+}  // namespace aslam
