@@ -22,6 +22,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/map_io.h"
+#include "common/text_format.h"
 #include "eval/map_metrics.h"
 #include "slam/g2o_io.h"
 #include "utility/utility_config.h"
@@ -36,12 +37,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-std::string Format(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -15,7 +15,6 @@
 namespace aslam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Sizes on both sides of the implementation's dense/Spectra switch (200 nodes).
@@ -46,8 +45,8 @@ WeightedGraph Complete(int n, double weight = 1.0) {
   return graph;
 }
 
-double PathLambda2(int n) { return 2.0 * (1.0 - std::cos(kPi / n)); }
-double CycleLambda2(int n) { return 2.0 * (1.0 - std::cos(2.0 * kPi / n)); }
+double PathLambda2(int n) { return 2.0 * (1.0 - std::cos(M_PI / n)); }
+double CycleLambda2(int n) { return 2.0 * (1.0 - std::cos(2.0 * M_PI / n)); }
 
 // A pose graph with the same information on every edge, nodes 0..n-1.
 PoseGraph ToPoseGraph(const WeightedGraph& shape, const Eigen::Matrix3d& information) {

@@ -11,7 +11,6 @@
 namespace aslam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kUnknownGrey = 205.0 / 255.0;
 // Wang et al.'s C1 = (0.01·L)² and C2 = (0.03·L)² for a dynamic range L = 1.
 constexpr double kC1 = 0.01 * 0.01;
@@ -187,7 +186,7 @@ TEST(ResampleOnGridTest, QuarterTurnRotatesCellIndices) {
   // cell (2 - r, c). Truth column 3 (world x > 0) is map y < 0: outside.
   const OccupancyGrid slam = NumberedMap(4, 3, 0.1, {0.0, 0.0});
   const OccupancyGrid truth(4, 4, 0.1, {-0.3, 0.0}, OccupancyGrid::kFree);
-  const OccupancyGrid resampled = ResampleOnGrid(slam, Pose2d{0.0, 0.0, kPi / 2.0}, truth);
+  const OccupancyGrid resampled = ResampleOnGrid(slam, Pose2d{0.0, 0.0, M_PI / 2.0}, truth);
   EXPECT_EQ(resampled.at({2, 0}), slam.at({0, 0}));
   EXPECT_EQ(resampled.at({2, 1}), slam.at({1, 0}));
   EXPECT_EQ(resampled.at({0, 3}), slam.at({3, 2}));

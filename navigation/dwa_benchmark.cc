@@ -17,7 +17,6 @@
 namespace aslam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 bool Solid(const OccupancyGrid& grid, const Point2d& p) {
   return grid.ValueOr(grid.WorldToCell(p), OccupancyGrid::kUnknown) >= 65;
@@ -39,7 +38,7 @@ const Scene& OfficeScene() {
     const double step_m = 0.5 * s.map.resolution_m();
     // 720 rays, 10 m range, marched at half a cell.
     for (int i = 0; i < 720; ++i) {
-      const double angle = s.robot.yaw_rad - kPi + 2.0 * kPi * i / 720;
+      const double angle = s.robot.yaw_rad - M_PI + 2.0 * M_PI * i / 720;
       for (double r = step_m; r <= 10.0; r += step_m) {
         const Point2d p{s.robot.x_m + r * std::cos(angle), s.robot.y_m + r * std::sin(angle)};
         if (Solid(s.map, p)) {

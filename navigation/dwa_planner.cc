@@ -14,7 +14,6 @@
 namespace aslam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Velocities closer than this are the same sample.
 constexpr double kSameVelocity = 1e-9;
 // A path vertex this much farther than the nearest one still counts as
@@ -354,7 +353,7 @@ DwaResult DwaPlanner::Plan(const Pose2d& robot_in_map, const DwaVelocity& curren
                                                      stop.yaw_rad));
       Candidate candidate;
       candidate.velocity = {v, w};
-      candidate.cost = {DistanceToPolyline(end_point, local.points), heading_error_rad / kPi,
+      candidate.cost = {DistanceToPolyline(end_point, local.points), heading_error_rad / M_PI,
                         o.clearance_cap_m - std::min(clearance_m, o.clearance_cap_m),
                         1.0 - v / o.max_linear_mps};
       candidates.push_back(candidate);

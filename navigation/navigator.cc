@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <limits>
+
+#include "common/text_format.h"
 
 namespace aslam {
 namespace {
@@ -14,15 +14,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double Distance(Point2d a, Point2d b) { return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m); }
 Point2d Position(const Pose2d& pose) { return {pose.x_m, pose.y_m}; }
 int64_t Micros(double seconds) { return static_cast<int64_t>(std::llround(seconds * 1e6)); }
-
-__attribute__((format(printf, 1, 2))) std::string Format(const char* format, ...) {
-  char text[200];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(text, sizeof(text), format, args);
-  va_end(args);
-  return text;
-}
 
 }  // namespace
 

@@ -43,7 +43,6 @@ namespace {
 constexpr int kNumNodes = 5000;
 constexpr int kNumFrontiers = 100;
 constexpr double kKeyframeSpacing_m = 0.3;
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d CovarianceToInformation(double sigma_xy_m, double sigma_yaw_rad, double angle_rad) {
   const Eigen::Matrix3d rotation =
@@ -108,7 +107,7 @@ Scene BuildScene(const std::string& world_name) {
         edge.to_id = id;
         edge.measurement = s.graph.nodes[id - 1].pose.Between(s.graph.nodes[id].pose);
         edge.information = CovarianceToInformation(0.02 + 0.02 * unit(rng), 0.005 + 0.01 * unit(rng),
-                                                   unit(rng) * kPi);
+                                                   unit(rng) * M_PI);
         s.graph.edges.push_back(edge);
       }
       if (id % 5 != 0) continue;
@@ -123,7 +122,7 @@ Scene BuildScene(const std::string& world_name) {
         edge.kind = EdgeKind::kLoopClosure;
         edge.measurement = a.Between(b);
         edge.information = CovarianceToInformation(0.04 + 0.04 * unit(rng), 0.01 + 0.02 * unit(rng),
-                                                   unit(rng) * kPi);
+                                                   unit(rng) * M_PI);
         s.graph.edges.push_back(edge);
         ++closures;
         ++s.num_loop_closures;

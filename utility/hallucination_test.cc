@@ -12,7 +12,6 @@ namespace aslam {
 namespace {
 
 constexpr double kResolution_m = 0.1;
-constexpr double kPi = 3.14159265358979323846;
 
 Point2d Center(int col, int row) { return {(col + 0.5) * kResolution_m, (row + 0.5) * kResolution_m}; }
 
@@ -75,7 +74,7 @@ TEST(HallucinationTest, EvenlySpacedNodesHeadingsAlongPathChainedToNewest) {
   // K = ceil(250/100) = 3 interior nodes at round(k·249/4) = 62, 125 (124.5), 187; then 249.
   ASSERT_EQ(result.nodes.size(), 4u);
   const int expected_index[] = {62, 125, 187, 249};
-  const double expected_yaw[] = {0.0, 0.0, kPi / 2, kPi / 2};  // east leg, east, north leg, north
+  const double expected_yaw[] = {0.0, 0.0, M_PI / 2, M_PI / 2};  // east leg, east, north leg, north
   for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(result.nodes[k].path_index, expected_index[k]);
     EXPECT_DOUBLE_EQ(result.nodes[k].pose.x_m, path[expected_index[k]].x_m);
@@ -136,7 +135,7 @@ TEST(HallucinationTest, UnknownAndOccupiedFractionsFromHandDrawnMap) {
   for (const HallucinatedNode& node : result.nodes) {
     EXPECT_NEAR(node.unknown_fraction, 148.0 / 317.0, 1e-12);
     EXPECT_NEAR(node.occupied_fraction, 17.0 / 317.0, 1e-12);
-    EXPECT_NEAR(node.pose.yaw_rad, kPi / 2, 1e-12);
+    EXPECT_NEAR(node.pose.yaw_rad, M_PI / 2, 1e-12);
   }
   // Chain edges carry I_odo·(1 + u).
   ExpectMatrixNear(result.edges.front().information, OdometryInformation({}) * (1.0 + 148.0 / 317.0));

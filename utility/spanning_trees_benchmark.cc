@@ -23,7 +23,6 @@ constexpr int kNumNodes = 5000;
 constexpr int kNumFrontiers = 100;
 constexpr double kResolution_m = 0.05;
 constexpr double kArena_m = 40.0;
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d CovarianceToInformation(double sigma_xy_m, double sigma_yaw_rad, double angle_rad) {
   const Eigen::Matrix3d rotation =
@@ -64,7 +63,7 @@ const Scene& GetScene() {
       yaw += turn(rng);
       double nx = x + 0.5 * std::cos(yaw), ny = y + 0.5 * std::sin(yaw);
       if (nx < 1 || ny < 1 || nx > kArena_m - 1 || ny > kArena_m - 1) {  // bounce off the walls
-        yaw += kPi;
+        yaw += M_PI;
         nx = x + 0.5 * std::cos(yaw);
         ny = y + 0.5 * std::sin(yaw);
       }
@@ -77,7 +76,7 @@ const Scene& GetScene() {
       edge.to_id = i;
       edge.measurement = s.graph.nodes[i - 1].pose.Between(s.graph.nodes[i].pose);
       edge.information = CovarianceToInformation(0.02 + 0.03 * unit(rng), 0.005 + 0.01 * unit(rng),
-                                                 unit(rng) * kPi);
+                                                 unit(rng) * M_PI);
       s.graph.edges.push_back(edge);
     }
     for (int i = 21; i < kNumNodes; ++i) {
@@ -96,7 +95,7 @@ const Scene& GetScene() {
       edge.kind = EdgeKind::kLoopClosure;
       edge.measurement = s.graph.nodes[best].pose.Between(s.graph.nodes[i].pose);
       edge.information = CovarianceToInformation(0.05 + 0.05 * unit(rng), 0.01 + 0.02 * unit(rng),
-                                                 unit(rng) * kPi);
+                                                 unit(rng) * M_PI);
       s.graph.edges.push_back(edge);
       ++s.num_closures;
     }
@@ -119,7 +118,7 @@ const Scene& GetScene() {
     const Pose2d robot = s.graph.nodes.back().pose;
     std::uniform_int_distribution<int> length(2, 400);
     for (int f = 0; f < kNumFrontiers; ++f) {
-      const double angle = unit(rng) * 2 * kPi;
+      const double angle = unit(rng) * 2 * M_PI;
       const int num_cells = length(rng);
       std::vector<Point2d> path;
       for (int c = 0; c < num_cells; ++c) {

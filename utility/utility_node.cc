@@ -10,6 +10,7 @@
 #include "aslam/explore_status_t.hpp"
 #include "aslam/utility_scores_t.hpp"
 #include "common/channels.h"
+#include "common/text_format.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
 
@@ -22,12 +23,6 @@ constexpr int64_t kStatusPeriodUs = 1'000'000;
 constexpr int64_t kGoalResendUs = 1'000'000;
 
 int64_t SecondsToUs(double s) { return static_cast<int64_t>(s * 1e6); }
-
-std::string Format(const char* format, double a, double b = 0.0) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof(buffer), format, a, b);
-  return buffer;
-}
 
 }  // namespace
 

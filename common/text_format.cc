@@ -1,0 +1,21 @@
+#include "common/text_format.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+namespace aslam {
+
+std::string Format(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list size_args;
+  va_copy(size_args, args);
+  const int size = std::vsnprintf(nullptr, 0, format, size_args);
+  va_end(size_args);
+  std::string text(size > 0 ? size : 0, '\0');
+  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace aslam
