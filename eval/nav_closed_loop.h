@@ -1,7 +1,7 @@
 #pragma once
 
 // The navigator in closed loop with the simulator, in-process on memq://
-// (DESIGN §4), for tests and the goal-reaching benchmark. Stands in for SLAM:
+// (docs/architecture.md §4), for tests and the goal-reaching benchmark. Stands in for SLAM:
 // SIM_TRUTH is relayed as SLAM_POSE (frame "map" = "world") and the world's
 // true map is published once as SLAM_MAP. Never use this outside tests and
 // benchmarks: no algorithm may see SIM_TRUTH.

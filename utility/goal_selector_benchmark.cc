@@ -19,8 +19,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
 #include <random>
@@ -29,13 +27,14 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/world_file.h"
 #include "navigation/costmap.h"
 #include "navigation/global_planner.h"
+#include "utility/benchmark_scene.h"
 #include "utility/goal_selector.h"
 #include "utility/hallucination.h"
 #include "utility/path_entropy.h"
 #include "utility/spanning_trees.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -43,16 +42,6 @@ namespace {
 constexpr int kNumNodes = 5000;
 constexpr int kNumFrontiers = 100;
 constexpr double kKeyframeSpacing_m = 0.3;
-
-Eigen::Matrix3d CovarianceToInformation(double sigma_xy_m, double sigma_yaw_rad, double angle_rad) {
-  const Eigen::Matrix3d rotation =
-      (Eigen::Matrix3d() << std::cos(angle_rad), -std::sin(angle_rad), 0, std::sin(angle_rad),
-       std::cos(angle_rad), 0, 0, 0, 1)
-          .finished();
-  const Eigen::Vector3d variances(sigma_xy_m * sigma_xy_m, 2.0 * sigma_xy_m * sigma_xy_m,
-                                  sigma_yaw_rad * sigma_yaw_rad);
-  return rotation * variances.cwiseInverse().asDiagonal() * rotation.transpose();
-}
 
 struct Scene {
   OccupancyGrid map;
@@ -94,7 +83,8 @@ Scene BuildScene(const std::string& world_name) {
     if (!path) continue;
     double travelled_m = kKeyframeSpacing_m;
     const auto& p = path->points_m;
-    for (std::size_t i = 1; i < p.size() && static_cast<int>(s.graph.nodes.size()) < kNumNodes; ++i) {
+    for (std::size_t i = 1; i < p.size() && static_cast<int>(s.graph.nodes.size()) < kNumNodes;
+         ++i) {
       travelled_m += std::hypot(p[i].x_m - p[i - 1].x_m, p[i].y_m - p[i - 1].y_m);
       if (travelled_m < kKeyframeSpacing_m) continue;
       travelled_m = 0.0;
@@ -106,8 +96,8 @@ Scene BuildScene(const std::string& world_name) {
         edge.from_id = id - 1;
         edge.to_id = id;
         edge.measurement = s.graph.nodes[id - 1].pose.Between(s.graph.nodes[id].pose);
-        edge.information = CovarianceToInformation(0.02 + 0.02 * unit(rng), 0.005 + 0.01 * unit(rng),
-                                                   unit(rng) * M_PI);
+        edge.information = SyntheticEdgeInformation(0.02 + 0.02 * unit(rng),
+                                                    0.005 + 0.01 * unit(rng), unit(rng) * M_PI);
         s.graph.edges.push_back(edge);
       }
       if (id % 5 != 0) continue;
@@ -121,8 +111,8 @@ Scene BuildScene(const std::string& world_name) {
         edge.to_id = id;
         edge.kind = EdgeKind::kLoopClosure;
         edge.measurement = a.Between(b);
-        edge.information = CovarianceToInformation(0.04 + 0.04 * unit(rng), 0.01 + 0.02 * unit(rng),
-                                                   unit(rng) * M_PI);
+        edge.information = SyntheticEdgeInformation(0.04 + 0.04 * unit(rng),
+                                                    0.01 + 0.02 * unit(rng), unit(rng) * M_PI);
         s.graph.edges.push_back(edge);
         ++closures;
         ++s.num_loop_closures;
@@ -149,20 +139,12 @@ Scene BuildScene(const std::string& world_name) {
   for (const Frontier& frontier : s.frontiers) {
     if (const auto path = from_robot.PathTo(s.map.WorldToCell(frontier.target_m))) {
       s.paths_m.push_back(path->points_m);
-      s.extensions.push_back(HallucinatePath(s.graph, path->points_m, s.map, HallucinationOptions{}));
+      s.extensions.push_back(
+          HallucinatePath(s.graph, path->points_m, s.map, HallucinationOptions{}));
     }
   }
-  // Sanity: incremental equals from scratch on every candidate (issue #5, 1e-9 relative).
-  IncrementalLogDet incremental(s.weighted);
-  for (const GraphExtension& extension : s.extensions) {
-    const double sparse = LogDetReducedLaplacianSparse(s.weighted, extension);
-    const double fast = incremental.LogDet(extension);
-    if (std::abs(fast - sparse) > 1e-9 * std::abs(sparse)) {
-      std::fprintf(stderr, "%s: incremental %.17g != from scratch %.17g\n", world_name.c_str(), fast,
-                   sparse);
-      std::abort();
-    }
-  }
+  // Sanity: incremental equals from scratch on every candidate (issue #5).
+  AbortUnlessIncrementalMatchesSparse(s.weighted, s.extensions, world_name.c_str());
   return s;
 }
 
@@ -203,9 +185,18 @@ void BM_Decision(benchmark::State& state, UtilityMethod method) {
   state.counters["eligible"] = decision.num_eligible;
   state.counters["chosen_id"] = decision.has_goal() ? decision.chosen().frontier_id : -1;
 }
-BENCHMARK_CAPTURE(BM_Decision, fd, UtilityMethod::kFd)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Decision, ags, UtilityMethod::kAgs)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Decision, ours, UtilityMethod::kOurs)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Decision, fd, UtilityMethod::kFd)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Decision, ags, UtilityMethod::kAgs)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Decision, ours, UtilityMethod::kOurs)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
 
 // --- The ours decision taken apart: the calls Decide makes, each timed (counters: ms per
 // decision). costmap; search (the one-to-all Dijkstra, goal cells and paths); U1 (D-opt
@@ -241,12 +232,13 @@ void BM_DecisionParts(benchmark::State& state) {
     for (std::size_t i = 0; i < paths.size(); ++i) {
       const GraphExtension extension =
           HallucinatePath(scene.graph, paths[i].points_m, scene.map, options.hallucination);
-      u1[i] = U1FromLogDet(incremental.LogDet(extension), weighted.num_nodes + extension.num_new_nodes);
+      u1[i] =
+          U1FromLogDet(incremental.LogDet(extension), weighted.num_nodes + extension.num_new_nodes);
     }
     const auto t3 = Clock::now();
     for (std::size_t i = 0; i < targets.size(); ++i) {
-      benchmark::DoNotOptimize(
-          ComputeU2(scene.map, robot_cell, targets[i], i < u1.size() ? u1[i] : 0.0, options.path_entropy));
+      benchmark::DoNotOptimize(ComputeU2(scene.map, robot_cell, targets[i],
+                                         i < u1.size() ? u1[i] : 0.0, options.path_entropy));
     }
     const auto t4 = Clock::now();
     costmap_s += seconds(t0, t1);
@@ -276,7 +268,8 @@ void BM_U1_Hallucinate(benchmark::State& state) {
   state.SetLabel(WorldName(state.range(0)));
   for (auto _ : state) {
     for (const auto& path : scene.paths_m) {
-      benchmark::DoNotOptimize(HallucinatePath(scene.graph, path, scene.map, HallucinationOptions{}));
+      benchmark::DoNotOptimize(
+          HallucinatePath(scene.graph, path, scene.map, HallucinationOptions{}));
     }
   }
 }
@@ -334,7 +327,11 @@ void BM_LogDet_DenseOneCandidate(benchmark::State& state) {
   }
   state.counters["candidates"] = 1;
 }
-BENCHMARK(BM_LogDet_DenseOneCandidate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_LogDet_DenseOneCandidate)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace aslam

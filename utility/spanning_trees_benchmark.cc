@@ -1,4 +1,4 @@
-// One U1 decision (DESIGN §5): 100 frontiers on a 5000-node SLAM-shaped pose
+// One U1 decision (docs/architecture.md §5): 100 frontiers on a 5000-node SLAM-shaped pose
 // graph, log det of the reduced Laplacian the incremental way, from scratch
 // with CHOLMOD, and dense (Eigen, one candidate), side by side.
 //
@@ -6,13 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <random>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
+#include "utility/benchmark_scene.h"
 #include "utility/hallucination.h"
 #include "utility/spanning_trees.h"
 
@@ -23,16 +22,6 @@ constexpr int kNumNodes = 5000;
 constexpr int kNumFrontiers = 100;
 constexpr double kResolution_m = 0.05;
 constexpr double kArena_m = 40.0;
-
-Eigen::Matrix3d CovarianceToInformation(double sigma_xy_m, double sigma_yaw_rad, double angle_rad) {
-  const Eigen::Matrix3d rotation =
-      (Eigen::Matrix3d() << std::cos(angle_rad), -std::sin(angle_rad), 0, std::sin(angle_rad),
-       std::cos(angle_rad), 0, 0, 0, 1)
-          .finished();
-  const Eigen::Vector3d variances(sigma_xy_m * sigma_xy_m, 4.0 * sigma_xy_m * sigma_xy_m,
-                                  sigma_yaw_rad * sigma_yaw_rad);
-  return rotation * variances.cwiseInverse().asDiagonal() * rotation.transpose();
-}
 
 // The scene: a 5000-keyframe random exploration walk (0.5 m steps, smooth
 // heading) in a 40 m square, odometry edges along it and loop closures for ~10 %
@@ -75,8 +64,8 @@ const Scene& GetScene() {
       edge.from_id = i - 1;
       edge.to_id = i;
       edge.measurement = s.graph.nodes[i - 1].pose.Between(s.graph.nodes[i].pose);
-      edge.information = CovarianceToInformation(0.02 + 0.03 * unit(rng), 0.005 + 0.01 * unit(rng),
-                                                 unit(rng) * M_PI);
+      edge.information = SyntheticEdgeInformation(0.02 + 0.03 * unit(rng), 0.005 + 0.01 * unit(rng),
+                                                  unit(rng) * M_PI);
       s.graph.edges.push_back(edge);
     }
     for (int i = 21; i < kNumNodes; ++i) {
@@ -94,8 +83,8 @@ const Scene& GetScene() {
       edge.to_id = i;
       edge.kind = EdgeKind::kLoopClosure;
       edge.measurement = s.graph.nodes[best].pose.Between(s.graph.nodes[i].pose);
-      edge.information = CovarianceToInformation(0.05 + 0.05 * unit(rng), 0.01 + 0.02 * unit(rng),
-                                                 unit(rng) * M_PI);
+      edge.information = SyntheticEdgeInformation(0.05 + 0.05 * unit(rng), 0.01 + 0.02 * unit(rng),
+                                                  unit(rng) * M_PI);
       s.graph.edges.push_back(edge);
       ++s.num_closures;
     }
@@ -107,7 +96,8 @@ const Scene& GetScene() {
       for (int dr = -30; dr <= 30; ++dr) {
         for (int dc = -30; dc <= 30; ++dc) {
           const CellIndex cell{c.col + dc, c.row + dr};
-          if (s.map.Contains(cell) && dr * dr + dc * dc <= 900) s.map.at(cell) = OccupancyGrid::kFree;
+          if (s.map.Contains(cell) && dr * dr + dc * dc <= 900)
+            s.map.at(cell) = OccupancyGrid::kFree;
         }
       }
     }
@@ -122,25 +112,20 @@ const Scene& GetScene() {
       const int num_cells = length(rng);
       std::vector<Point2d> path;
       for (int c = 0; c < num_cells; ++c) {
-        const double px = std::clamp(robot.x_m + c * kResolution_m * std::cos(angle), 0.0, kArena_m - 1e-6);
-        const double py = std::clamp(robot.y_m + c * kResolution_m * std::sin(angle), 0.0, kArena_m - 1e-6);
+        const double px =
+            std::clamp(robot.x_m + c * kResolution_m * std::cos(angle), 0.0, kArena_m - 1e-6);
+        const double py =
+            std::clamp(robot.y_m + c * kResolution_m * std::sin(angle), 0.0, kArena_m - 1e-6);
         path.push_back(s.map.CellCenter(s.map.WorldToCell({px, py})));
       }
       s.paths_m.push_back(path);
     }
     s.weighted = ToWeightedGraph(s.graph);
-    for (const auto& path : s.paths_m) s.extensions.push_back(HallucinatePath(s.graph, path, s.map, {}));
+    for (const auto& path : s.paths_m)
+      s.extensions.push_back(HallucinatePath(s.graph, path, s.map, {}));
 
     // Sanity: incremental equals from scratch on every candidate.
-    IncrementalLogDet incremental(s.weighted);
-    for (const GraphExtension& extension : s.extensions) {
-      const double sparse = LogDetReducedLaplacianSparse(s.weighted, extension);
-      const double fast = incremental.LogDet(extension);
-      if (std::abs(fast - sparse) > 1e-9 * std::abs(sparse)) {
-        std::fprintf(stderr, "incremental %.17g != from scratch %.17g\n", fast, sparse);
-        std::abort();
-      }
-    }
+    AbortUnlessIncrementalMatchesSparse(s.weighted, s.extensions, "random walk");
     return s;
   }();
   return scene;
