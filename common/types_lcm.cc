@@ -119,6 +119,11 @@ std::optional<StampedPose> FromLcm(const pose_t& msg) {
   return pose;
 }
 
+std::optional<StampedPose> MapFramePoseFromLcm(const pose_t& msg) {
+  if (msg.frame != kMapFrame) return std::nullopt;
+  return FromLcm(msg);
+}
+
 occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revision,
                        const std::string& frame) {
   occupancy_grid_t msg{};
@@ -149,6 +154,11 @@ std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg) {
                      {msg.origin.x_m, msg.origin.y_m});
   grid.mutable_cells() = msg.cells;
   return grid;
+}
+
+std::optional<OccupancyGrid> MapFrameGridFromLcm(const occupancy_grid_t& msg) {
+  if (msg.frame != kMapFrame) return std::nullopt;
+  return FromLcm(msg);
 }
 
 pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,

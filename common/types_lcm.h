@@ -38,11 +38,18 @@ std::optional<VelocityCommand> FromLcm(const velocity_command_t& msg);  // rejec
 pose_t ToLcm(const StampedPose& pose, const std::string& frame);
 std::optional<StampedPose> FromLcm(const pose_t& msg);
 
+// The frame SLAM publishes in and every consumer of SLAM_POSE and SLAM_MAP works in.
+inline constexpr const char* kMapFrame = "map";
+// SLAM_POSE as its consumers take it: a pose in any frame but kMapFrame is rejected too.
+std::optional<StampedPose> MapFramePoseFromLcm(const pose_t& msg);
+
 occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revision,
                        const std::string& frame);
 // Rejects sizes that disagree with num_cells, non-positive resolution,
 // a rotated origin and cell values outside -1..100.
 std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg);
+// SLAM_MAP as its consumers take it: a grid in any frame but kMapFrame is rejected too.
+std::optional<OccupancyGrid> MapFrameGridFromLcm(const occupancy_grid_t& msg);
 
 // POSE_GRAPH: the graph plus the publisher's revision and loop-closure counts.
 pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,

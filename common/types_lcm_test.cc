@@ -88,6 +88,29 @@ TEST(TypesLcm, OccupancyGridRoundTripAndValidation) {
   EXPECT_FALSE(FromLcm(rotated).has_value());
 }
 
+TEST(TypesLcm, OnlyTheMapFrameIsAcceptedFromSlam) {
+  const StampedPose pose{10, {1.0, 2.0, 0.5}, 0.1, 0.0};
+  const auto in_map = MapFramePoseFromLcm(ToLcm(pose, kMapFrame));
+  ASSERT_TRUE(in_map.has_value());
+  EXPECT_EQ(in_map->utime, 10);
+  EXPECT_DOUBLE_EQ(in_map->pose.y_m, 2.0);
+  EXPECT_FALSE(MapFramePoseFromLcm(ToLcm(pose, "odom")).has_value());
+  EXPECT_FALSE(MapFramePoseFromLcm(ToLcm(pose, "world")).has_value());
+  StampedPose not_finite = pose;
+  not_finite.pose.x_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(MapFramePoseFromLcm(ToLcm(not_finite, kMapFrame)).has_value());
+
+  OccupancyGrid grid(3, 2, 0.05, {-1.0, 2.0});
+  grid.at({2, 1}) = 100;
+  const auto grid_in_map = MapFrameGridFromLcm(ToLcm(grid, 99, 4, kMapFrame));
+  ASSERT_TRUE(grid_in_map.has_value());
+  EXPECT_EQ(grid_in_map->cells(), grid.cells());
+  EXPECT_FALSE(MapFrameGridFromLcm(ToLcm(grid, 99, 4, "world")).has_value());
+  occupancy_grid_t bad_value = ToLcm(grid, 99, 4, kMapFrame);
+  bad_value.cells[0] = -2;
+  EXPECT_FALSE(MapFrameGridFromLcm(bad_value).has_value());
+}
+
 PoseGraph SmallGraph() {
   PoseGraph graph;
   graph.nodes = {{0, 100, {0.0, 0.0, 0.0}}, {1, 200, {0.3, 0.01, 0.1}}, {2, 300, {0.6, -0.2, 3.1}}};

@@ -8,11 +8,6 @@
 #include "frontier/frontier_lcm.h"
 
 namespace aslam {
-namespace {
-
-constexpr const char* kMapFrame = "map";
-
-}  // namespace
 
 FrontierNode::FrontierNode(lcm::LCM& lcm, FrontierOptions options)
     : lcm_(lcm), extractor_(std::move(options)), subscriptions_(lcm) {
@@ -22,8 +17,7 @@ FrontierNode::FrontierNode(lcm::LCM& lcm, FrontierOptions options)
 }
 
 bool FrontierNode::OnMap(const occupancy_grid_t& msg) {
-  if (msg.frame != kMapFrame) return false;
-  std::optional<OccupancyGrid> map = FromLcm(msg);
+  std::optional<OccupancyGrid> map = MapFrameGridFromLcm(msg);
   if (!map) return false;
   // "New" = different: a restarted SLAM counts its revisions from the start again.
   if (extracted_revision_ && *extracted_revision_ == msg.revision) return true;
@@ -36,8 +30,7 @@ bool FrontierNode::OnMap(const occupancy_grid_t& msg) {
 }
 
 bool FrontierNode::OnPose(const pose_t& msg) {
-  if (msg.frame != kMapFrame) return false;
-  const std::optional<StampedPose> pose = FromLcm(msg);
+  const std::optional<StampedPose> pose = MapFramePoseFromLcm(msg);
   if (!pose) return false;
   pose_ = pose;
   if (map_pending_) ExtractAndPublish();

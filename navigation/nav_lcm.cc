@@ -2,14 +2,7 @@
 
 #include <cmath>
 
-#include "common/types_lcm.h"
-
 namespace aslam {
-namespace {
-
-constexpr const char* kMapFrame = "map";
-
-}  // namespace
 
 std::optional<NavGoalRequest> FromLcm(const explore_goal_t& msg) {
   if (msg.goal_id < 0) return std::nullopt;
@@ -26,16 +19,6 @@ explore_goal_t ToLcm(const NavGoalRequest& request) {
   msg.y_m = request.goal_m.y_m;
   msg.frontier_id = -1;
   return msg;
-}
-
-std::optional<StampedPose> MapPoseFromLcm(const pose_t& msg) {
-  if (msg.frame != kMapFrame) return std::nullopt;
-  return FromLcm(msg);
-}
-
-std::optional<OccupancyGrid> MapFromLcm(const occupancy_grid_t& msg) {
-  if (msg.frame != kMapFrame) return std::nullopt;
-  return FromLcm(msg);
 }
 
 nav_status_t ToLcm(const NavStatus& status) {
@@ -78,6 +61,7 @@ nav_status_t ToLcm(const NavStatus& status) {
 }
 
 std::optional<NavStatus> FromLcm(const nav_status_t& msg) {
+  if (msg.goal_id < -1) return std::nullopt;  // -1 = no goal yet; ids are never negative
   NavStatus status;
   status.utime = msg.utime;
   status.goal_id = msg.goal_id;

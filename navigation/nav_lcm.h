@@ -2,6 +2,7 @@
 
 // Translators between the navigator's value types and its lcmtypes. FromLcm
 // functions validate: nullopt means the message is to be dropped and counted.
+// SLAM_POSE and SLAM_MAP go through the "map" frame filter of common/types_lcm.h.
 
 #include <optional>
 #include <string>
@@ -10,24 +11,17 @@
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/nav_path_t.hpp"
 #include "aslam/nav_status_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
-#include "aslam/pose_t.hpp"
-#include "common/occupancy_grid.h"
-#include "common/sensor_types.h"
 #include "navigation/navigator.h"
 
 namespace aslam {
 
-// The navigator works in "map": any other frame is rejected, as are a
-// negative goal id and (unless cancelling) a non-finite goal.
+// Rejects a negative goal id and (unless cancelling) a non-finite goal.
 std::optional<NavGoalRequest> FromLcm(const explore_goal_t& msg);
 explore_goal_t ToLcm(const NavGoalRequest& request);
 
-std::optional<StampedPose> MapPoseFromLcm(const pose_t& msg);
-std::optional<OccupancyGrid> MapFromLcm(const occupancy_grid_t& msg);
-
+// NAV_STATUS, for the navigator's own and for every listener (the utility, the harnesses):
+// rejects unknown state or recovery codes, a goal id below -1 and a non-finite goal or distance.
 nav_status_t ToLcm(const NavStatus& status);
-// Rejects unknown state or recovery codes and a non-finite goal or distance.
 std::optional<NavStatus> FromLcm(const nav_status_t& msg);
 
 nav_path_t PathToLcm(int64_t utime, int64_t goal_id, const std::vector<Point2d>& path_m,

@@ -28,7 +28,7 @@ NavNode::NavNode(lcm::LCM& lcm, NavOptions options)
 void NavNode::NoteTime(int64_t utime) { latest_utime_ = std::max(latest_utime_, utime); }
 
 bool NavNode::OnPose(const pose_t& msg) {
-  const auto pose = MapPoseFromLcm(msg);
+  const auto pose = MapFramePoseFromLcm(msg);
   if (!pose) return false;
   NoteTime(pose->utime);
   navigator_.SetPose(*pose);
@@ -42,7 +42,7 @@ bool NavNode::OnPose(const pose_t& msg) {
 }
 
 bool NavNode::OnMap(const occupancy_grid_t& msg) {
-  const auto map = MapFromLcm(msg);
+  const auto map = MapFrameGridFromLcm(msg);
   if (!map) return false;
   NoteTime(msg.utime);
   navigator_.SetMap(*map);

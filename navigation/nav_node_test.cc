@@ -139,6 +139,10 @@ TEST(NavLcm, StatusRoundTrips) {
   nav_status_t bad = ToLcm(status);
   bad.state = 9;
   EXPECT_FALSE(FromLcm(bad).has_value());
+  nav_status_t no_goal = ToLcm(NavStatus{});
+  EXPECT_EQ(FromLcm(no_goal)->goal_id, -1);  // before the first goal
+  no_goal.goal_id = -2;
+  EXPECT_FALSE(FromLcm(no_goal).has_value());
 }
 
 }  // namespace

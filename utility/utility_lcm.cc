@@ -1,15 +1,8 @@
 #include "utility/utility_lcm.h"
 
-#include <cmath>
-
 #include "common/types_lcm.h"
 
 namespace aslam {
-namespace {
-
-constexpr const char* kMapFrame = "map";
-
-}  // namespace
 
 utility_scores_t ScoresToLcm(const GoalDecision& decision, int64_t utime, int64_t decision_id,
                              UtilityMethod method, const Pose2d& robot, double compute_ms) {
@@ -46,53 +39,24 @@ utility_scores_t ScoresToLcm(const GoalDecision& decision, int64_t utime, int64_
   return msg;
 }
 
-explore_goal_t GoalToLcm(int64_t utime, int64_t goal_id, Point2d target_m, int frontier_id) {
+explore_goal_t ToLcm(const ExploreGoal& goal) {
   explore_goal_t msg{};
-  msg.utime = utime;
-  msg.goal_id = goal_id;
-  msg.cancel = false;
-  msg.x_m = target_m.x_m;
-  msg.y_m = target_m.y_m;
-  msg.frontier_id = frontier_id;
+  msg.utime = goal.utime;
+  msg.goal_id = goal.goal_id;
+  msg.cancel = goal.cancel;
+  msg.x_m = goal.target_m.x_m;
+  msg.y_m = goal.target_m.y_m;
+  msg.frontier_id = goal.frontier_id;
   return msg;
-}
-
-explore_goal_t CancelToLcm(int64_t utime, int64_t goal_id) {
-  explore_goal_t msg{};
-  msg.utime = utime;
-  msg.goal_id = goal_id;
-  msg.cancel = true;
-  msg.x_m = 0.0;
-  msg.y_m = 0.0;
-  msg.frontier_id = -1;
-  return msg;
-}
-
-const char* ExploreStateName(ExploreState state) {
-  switch (state) {
-    case ExploreState::kWaiting:
-      return "waiting";
-    case ExploreState::kExploring:
-      return "exploring";
-    case ExploreState::kDone:
-      return "done";
-  }
-  return "?";
 }
 
 explore_status_t ToLcm(const ExploreStatus& status) {
   explore_status_t msg{};
   msg.utime = status.utime;
   switch (status.state) {
-    case ExploreState::kWaiting:
-      msg.state = explore_status_t::STATE_WAITING;
-      break;
-    case ExploreState::kExploring:
-      msg.state = explore_status_t::STATE_EXPLORING;
-      break;
-    case ExploreState::kDone:
-      msg.state = explore_status_t::STATE_DONE;
-      break;
+    case ExploreState::kWaiting: msg.state = explore_status_t::STATE_WAITING; break;
+    case ExploreState::kExploring: msg.state = explore_status_t::STATE_EXPLORING; break;
+    case ExploreState::kDone: msg.state = explore_status_t::STATE_DONE; break;
   }
   msg.method = UtilityMethodName(status.method);
   msg.current_goal_id = status.current_goal_id;
@@ -103,51 +67,6 @@ explore_status_t ToLcm(const ExploreStatus& status) {
   msg.goals_failed = status.goals_failed;
   msg.detail = status.detail;
   return msg;
-}
-
-std::optional<NavReport> NavReportFromLcm(const nav_status_t& msg) {
-  if (msg.goal_id < -1) return std::nullopt;  // -1 = no goal yet; ids are never negative
-  NavReport report;
-  report.utime = msg.utime;
-  report.goal_id = msg.goal_id;
-  switch (msg.state) {
-    case nav_status_t::STATE_IDLE:
-      report.state = NavGoalState::kIdle;
-      break;
-    case nav_status_t::STATE_ACTIVE:
-      report.state = NavGoalState::kActive;
-      break;
-    case nav_status_t::STATE_REACHED:
-      report.state = NavGoalState::kReached;
-      break;
-    case nav_status_t::STATE_FAILED:
-      report.state = NavGoalState::kFailed;
-      break;
-    case nav_status_t::STATE_UNREACHABLE:
-      report.state = NavGoalState::kUnreachable;
-      break;
-    default:
-      return std::nullopt;
-  }
-  if (msg.recovery != nav_status_t::RECOVERY_NONE && msg.recovery != nav_status_t::RECOVERY_ROTATE &&
-      msg.recovery != nav_status_t::RECOVERY_BACK_OFF) {
-    return std::nullopt;
-  }
-  if (!std::isfinite(msg.goal_x_m) || !std::isfinite(msg.goal_y_m) ||
-      !std::isfinite(msg.distance_remaining_m)) {
-    return std::nullopt;
-  }
-  return report;
-}
-
-std::optional<StampedPose> MapFramePoseFromLcm(const pose_t& msg) {
-  if (msg.frame != kMapFrame) return std::nullopt;
-  return FromLcm(msg);
-}
-
-std::optional<OccupancyGrid> MapFrameGridFromLcm(const occupancy_grid_t& msg) {
-  if (msg.frame != kMapFrame) return std::nullopt;
-  return FromLcm(msg);
 }
 
 }  // namespace aslam

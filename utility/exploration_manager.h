@@ -1,0 +1,146 @@
+#pragma once
+
+// The exploration state machine (docs/architecture.md §9): when a decision is due, goal ids,
+// the blacklist of reached and failed targets, re-sending a goal the navigator missed,
+// cancelling a goal nothing replaces, the done timeout, the counters and the status.
+// On value types: no LCM and no clock; time is the utimes of the inputs.
+//
+// Every On* call returns the actions to carry out, in this order:
+//   goal      publish EXPLORE_GOAL (a new goal, a re-send or a cancel);
+//   decision  run GoalSelector::Decide on map(), pose(), graph(), frontiers() and
+//             blacklist_m(), publish its UTILITY_SCORES under the request's id and
+//             utime, then carry out OnDecision(decision) before the next input;
+//   status    publish EXPLORE_STATUS.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/occupancy_grid.h"
+#include "common/pose2d.h"
+#include "common/pose_graph.h"
+#include "common/sensor_types.h"
+#include "frontier/frontier.h"
+#include "navigation/navigator.h"
+#include "utility/goal_selector.h"
+
+namespace aslam {
+
+struct ExplorationOptions {
+  UtilityMethod method = UtilityMethod::kOurs;  // ags and ours wait for a pose graph
+  // No eligible frontier for this long (message time) and the status says done.
+  double done_timeout_s = 10.0;
+
+  // Throws std::invalid_argument naming the field and value.
+  void Validate() const;
+};
+
+enum class ExploreState { kWaiting, kExploring, kDone };
+const char* ExploreStateName(ExploreState state);
+
+// What EXPLORE_STATUS carries.
+struct ExploreStatus {
+  int64_t utime = 0;
+  ExploreState state = ExploreState::kWaiting;
+  UtilityMethod method = UtilityMethod::kOurs;
+  int64_t current_goal_id = -1;
+  int num_frontiers = 0;
+  int num_eligible = 0;
+  int decisions = 0;
+  int goals_reached = 0;
+  int goals_failed = 0;
+  std::string detail;
+};
+
+// An EXPLORE_GOAL: go to target_m, or (cancel) stop pursuing goal_id.
+struct ExploreGoal {
+  int64_t utime = 0;
+  int64_t goal_id = 0;
+  bool cancel = false;
+  Point2d target_m;      // "map"; (0, 0) for a cancel
+  int frontier_id = -1;  // -1 for a cancel
+};
+
+// A decision to make now; its UTILITY_SCORES carry this id and utime.
+struct DecisionRequest {
+  int64_t utime = 0;
+  int64_t decision_id = 0;
+};
+
+// What to publish, in member order (see the top of this file).
+struct ExploreActions {
+  std::optional<ExploreGoal> goal;
+  std::optional<DecisionRequest> decision;
+  std::optional<ExploreStatus> status;
+};
+
+class ExplorationManager {
+ public:
+  // Throws std::invalid_argument for invalid options.
+  explicit ExplorationManager(ExplorationOptions options);
+
+  // The latest accepted inputs (SLAM_MAP, SLAM_POSE, POSE_GRAPH, FRONTIERS, NAV_STATUS).
+  ExploreActions OnMap(OccupancyGrid map, int64_t utime);
+  ExploreActions OnPose(const StampedPose& pose);
+  ExploreActions OnGraph(PoseGraph graph, int64_t utime);
+  ExploreActions OnFrontiers(FrontierList frontiers);
+  ExploreActions OnNavStatus(const NavStatus& status);
+  // The GoalSelector's answer to the pending DecisionRequest.
+  ExploreActions OnDecision(const GoalDecision& decision);
+
+  // Map, pose and frontiers known and, for ags and ours, a pose graph with nodes.
+  bool Ready() const;
+  // The inputs of a decision; map(), pose() and frontiers() only once Ready().
+  const OccupancyGrid& map() const { return *map_; }
+  const StampedPose& pose() const { return *pose_; }
+  const PoseGraph& graph() const { return graph_; }  // empty before the first
+  const std::vector<Frontier>& frontiers() const { return frontiers_->frontiers; }
+  // Targets of reached and failed goals ("map"); never shrinks.
+  const std::vector<Point2d>& blacklist_m() const { return blacklist_m_; }
+
+  int decisions() const { return decisions_; }
+  int goals_reached() const { return goals_reached_; }
+  int goals_failed() const { return goals_failed_; }
+  // -1 when no goal is being pursued.
+  int64_t current_goal_id() const { return goal_ ? goal_->goal_id : -1; }
+  // The status as of the latest input (published at decisions and at 1 Hz of message time).
+  ExploreStatus status() const;
+
+ private:
+  struct ActiveGoal {
+    int64_t goal_id = 0;
+    int frontier_id = -1;
+    Point2d target_m;
+    int64_t published_utime = 0;
+  };
+
+  // After every accepted input: the pending decision if Ready, else the status heartbeat.
+  ExploreActions AfterInput(int64_t utime);
+  std::string MissingInputs() const;
+  // The active goal as EXPLORE_GOAL, stamped now.
+  ExploreGoal PublishGoal();
+  ExploreStatus PublishStatus();
+
+  const ExplorationOptions options_;
+
+  std::optional<OccupancyGrid> map_;
+  std::optional<StampedPose> pose_;
+  PoseGraph graph_;
+  std::optional<FrontierList> frontiers_;
+
+  int64_t latest_utime_ = 0;  // the largest utime of any accepted input
+  std::optional<int64_t> last_status_utime_;
+  bool decision_pending_ = true;  // no goal yet: decide as soon as the inputs allow
+
+  std::optional<ActiveGoal> goal_;
+  int64_t next_goal_id_ = 0;
+  std::vector<Point2d> blacklist_m_;
+  std::optional<int64_t> no_eligible_since_utime_;
+  int last_num_eligible_ = 0;
+  int decisions_ = 0;
+  int goals_reached_ = 0;
+  int goals_failed_ = 0;
+};
+
+}  // namespace aslam
