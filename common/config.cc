@@ -38,15 +38,16 @@ YAML::Node ParseString(const std::string& text, const std::string& origin) {
   try {
     return YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw ConfigError(origin + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+    throw ConfigError(origin + ":" + std::to_string(e.mark.line + 1) +
+                      ": malformed YAML: " + e.msg);
   }
 }
 
 }  // namespace
 
 const std::vector<std::string>& KnownConfigSections() {
-  static const std::vector<std::string> sections = {"sim", "slam", "frontier", "utility",
-                                                    "nav", "procman", "explore", "eval"};
+  static const std::vector<std::string> sections = {
+      "robot", "sim", "slam", "frontier", "utility", "nav", "procman", "explore", "eval"};
   return sections;
 }
 
@@ -72,8 +73,8 @@ ConfigReader ConfigReader::FromRoot(YAML::Node root, const std::string& section,
   const YAML::Node node =
       (!value.IsDefined() || value.IsNull()) ? YAML::Node(YAML::NodeType::Map) : value;
   if (!node.IsMap()) {
-    throw ConfigError(origin + LineOf(node) + ": section '" + section + "' must be a mapping, got " +
-                      Describe(node));
+    throw ConfigError(origin + LineOf(node) + ": section '" + section +
+                      "' must be a mapping, got " + Describe(node));
   }
   return ConfigReader(node, origin, section, std::make_shared<std::set<std::string>>());
 }
@@ -85,6 +86,11 @@ ConfigReader ConfigReader::FromString(const std::string& yaml_text, const std::s
 
 ConfigReader ConfigReader::FromFile(const std::string& file, const std::string& section) {
   return FromRoot(ParseFile(file), section, file);
+}
+
+ConfigReader ConfigReader::FromOptionalFile(const std::string& file, const std::string& section) {
+  if (file.empty()) return FromRoot(YAML::Node(YAML::NodeType::Map), section, "<defaults>");
+  return FromFile(file, section);
 }
 
 ConfigReader ConfigReader::WholeFile(const std::string& file) {

@@ -31,6 +31,8 @@ class ConfigReader {
   // section reads as empty (all defaults). Throws ConfigError on a missing or
   // malformed file or an unknown top-level section.
   static ConfigReader FromFile(const std::string& file, const std::string& section);
+  // FromFile, except that no file ("") reads as an empty section (all defaults).
+  static ConfigReader FromOptionalFile(const std::string& file, const std::string& section);
   // The same for YAML text; `origin` names it in error messages.
   static ConfigReader FromString(const std::string& yaml_text, const std::string& section,
                                  const std::string& origin = "<string>");

@@ -1,5 +1,7 @@
 #include "common/pose2d.h"
 
+#include <sstream>
+
 namespace aslam {
 
 double WrapAngle(double angle_rad) {
@@ -32,6 +34,18 @@ Point2d Pose2d::Transform(const Point2d& point) const {
 
 std::ostream& operator<<(std::ostream& os, const Pose2d& pose) {
   return os << "(" << pose.x_m << " m, " << pose.y_m << " m, " << pose.yaw_rad << " rad)";
+}
+
+std::optional<Pose2d> ParsePose(const std::string& text) {
+  std::istringstream in(text);
+  Pose2d pose;
+  char c1 = 0, c2 = 0;
+  if (!(in >> pose.x_m >> c1 >> pose.y_m >> c2 >> pose.yaw_rad) || c1 != ',' || c2 != ',' ||
+      !(in >> std::ws).eof() || !std::isfinite(pose.x_m) || !std::isfinite(pose.y_m) ||
+      !std::isfinite(pose.yaw_rad)) {
+    return std::nullopt;
+  }
+  return pose;
 }
 
 }  // namespace aslam

@@ -4,7 +4,9 @@
 // differences planar poses.
 
 #include <cmath>
+#include <optional>
 #include <ostream>
+#include <string>
 
 namespace aslam {
 
@@ -34,5 +36,9 @@ struct Pose2d {
 inline Pose2d operator*(const Pose2d& a, const Pose2d& b) { return a.Compose(b); }
 
 std::ostream& operator<<(std::ostream& os, const Pose2d& pose);
+
+// "X,Y,YAW" (m, m, rad), as a --start flag takes it -> pose; nullopt if
+// malformed or not finite. Whitespace around the numbers is allowed.
+std::optional<Pose2d> ParsePose(const std::string& text);
 
 }  // namespace aslam

@@ -1,6 +1,8 @@
 #include "common/pose2d.h"
 
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -56,6 +58,35 @@ TEST(Pose2d, ComposeWrapsYaw) {
   EXPECT_GT(c.yaw_rad, -M_PI);
   EXPECT_LE(c.yaw_rad, M_PI);
   EXPECT_NEAR(c.yaw_rad, 6.0 - 2.0 * M_PI, 1e-12);
+}
+
+// The simulator casts from base ⊕ lidar mount: with the default (zero) mount
+// that must be the base pose bit for bit, whatever the (wrapped) yaw.
+TEST(Pose2d, ComposingTheIdentityKeepsAWrappedPoseBitForBit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> pos(-50.0, 50.0), ang(-M_PI, M_PI);
+  std::vector<Pose2d> poses = {{0.0, 0.0, M_PI}, {1.0, -2.0, 0.0}, {3.5, 0.0, -M_PI / 2.0}};
+  for (int i = 0; i < 10000; ++i) poses.push_back({pos(rng), pos(rng), WrapAngle(ang(rng))});
+  for (const Pose2d& pose : poses) {
+    const Pose2d composed = pose * Pose2d{};
+    EXPECT_EQ(std::memcmp(&composed, &pose, sizeof(Pose2d)), 0) << pose;
+  }
+}
+
+TEST(ParsePose, ParsesXYYawOnly) {
+  const auto p = ParsePose("1.5,-2,0.25");
+  ASSERT_TRUE(p.has_value());
+  EXPECT_DOUBLE_EQ(p->x_m, 1.5);
+  EXPECT_DOUBLE_EQ(p->y_m, -2.0);
+  EXPECT_DOUBLE_EQ(p->yaw_rad, 0.25);
+  EXPECT_TRUE(ParsePose(" 1.0 , 2.0 , 0.5 ").has_value());
+  EXPECT_FALSE(ParsePose("").has_value());
+  EXPECT_FALSE(ParsePose("1,2").has_value());
+  EXPECT_FALSE(ParsePose("1,2,3,4").has_value());
+  EXPECT_FALSE(ParsePose("1,2,3x").has_value());
+  EXPECT_FALSE(ParsePose("a,b,c").has_value());
+  EXPECT_FALSE(ParsePose("1;2;3").has_value());
+  EXPECT_FALSE(ParsePose("1,2,1e999").has_value());
 }
 
 }  // namespace

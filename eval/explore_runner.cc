@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "aslam/explore_goal_t.hpp"
@@ -15,10 +14,13 @@
 #include "common/channels.h"
 #include "common/inproc_host.h"
 #include "common/lcm_util.h"
+#include "common/robot_config.h"
 #include "common/types_lcm.h"
+#include "common/world_file.h"
 #include "drivers/sim/sim_config.h"
 #include "drivers/sim/sim_node.h"
 #include "eval/run_listener.h"
+#include "eval/trajectory_metrics.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_lcm.h"
 #include "frontier/frontier_node.h"
@@ -26,10 +28,8 @@
 #include "navigation/nav_node.h"
 #include "slam/slam_config.h"
 #include "slam/slam_node.h"
-#include "eval/trajectory_metrics.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -38,32 +38,28 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-std::optional<Pose2d> ParsePose(const std::string& text) {
-  std::istringstream in(text);
-  Pose2d pose;
-  char c1 = 0, c2 = 0;
-  if (!(in >> pose.x_m >> c1 >> pose.y_m >> c2 >> pose.yaw_rad) || c1 != ',' || c2 != ',' ||
-      !(in >> std::ws).eof() || !std::isfinite(pose.x_m) || !std::isfinite(pose.y_m) ||
-      !std::isfinite(pose.yaw_rad)) {
-    return std::nullopt;
-  }
-  return pose;
-}
-
 ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atomic<bool>* stop,
                                   const std::function<void(const ExploreProgress&)>& on_progress) {
   const auto method = ParseUtilityMethod(options.method);
-  if (!method) throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
+  if (!method)
+    throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
   if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
 
-  // Every option is loaded and validated before anything runs (DESIGN §7.4).
-  SimulatorOptions sim_options = LoadSimulatorOptionsFromFile(options.config_file);
+  // Every option is loaded and validated before anything runs (DESIGN §7.4); the
+  // robot once, for the simulator and the navigator, whose planning frontier and
+  // utility share.
+  const std::string& file = options.config_file;
+  const RobotOptions robot = LoadRobotOptionsFromFile(file);
+  SimulatorOptions sim_options =
+      LoadSimulatorOptions(ConfigReader::FromOptionalFile(file, "sim"), robot);
   sim_options.seed = options.seed;
-  const SlamConfig slam_config = LoadSlamConfigFromFile(options.config_file);
-  const FrontierOptions frontier_options = LoadFrontierOptionsFromFile(options.config_file);
-  UtilityOptions utility_options = LoadUtilityOptionsFromFile(options.config_file);
+  const SlamConfig slam_config = LoadSlamConfigFromFile(file);
+  const NavOptions nav_options = LoadNavOptions(ConfigReader::FromOptionalFile(file, "nav"), robot);
+  const FrontierOptions frontier_options =
+      LoadFrontierOptions(ConfigReader::FromOptionalFile(file, "frontier"), nav_options);
+  UtilityOptions utility_options =
+      LoadUtilityOptions(ConfigReader::FromOptionalFile(file, "utility"), nav_options);
   utility_options.selector.method = *method;
-  const NavOptions nav_options = LoadNavOptionsFromFile(options.config_file);
 
   const WorldInfo world = LoadWorld(options.world);
   const Pose2d start = ResolveStart(world, options);

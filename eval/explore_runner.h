@@ -16,18 +16,18 @@
 #include <vector>
 
 #include "common/occupancy_grid.h"
-#include "common/pose2d.h"
+#include "common/pose2d.h"  // also ParsePose, for --start
 #include "common/pose_graph.h"
 
 namespace aslam {
 
 struct ExploreOptions {
-  std::string world;              // world folder or a map_server MAP.yaml
-  std::optional<Pose2d> start;    // "world"; overrides the world's start
-  std::string method = "ours";    // fd | ags | ours; overrides the config's utility.method
-  double duration_s = 1800.0;     // simulated seconds at most
-  uint64_t seed = 1;              // the simulator's seed (overrides sim.seed)
-  std::string config_file;        // "" = built-in defaults
+  std::string world;                // world folder or a map_server MAP.yaml
+  std::optional<Pose2d> start;      // "world"; overrides the world's start
+  std::string method = "ours";      // fd | ags | ours; overrides the config's utility.method
+  double duration_s = 1800.0;       // simulated seconds at most
+  uint64_t seed = 1;                // the simulator's seed (overrides sim.seed)
+  std::string config_file;          // "" = built-in defaults
   double progress_period_s = 10.0;  // simulated seconds between progress reports; 0 = none
 };
 
@@ -39,12 +39,12 @@ struct ExploreProgress {
   int keyframes = 0;
   int loop_closures = 0;
   int frontiers = 0;
-  int64_t goal_id = -1;       // -1: no goal
-  Point2d goal_m;             // "map"
+  int64_t goal_id = -1;  // -1: no goal
+  Point2d goal_m;        // "map"
   int goals_reached = 0;
   int goals_failed = 0;
   int64_t collisions = 0;
-  std::string state;          // waiting | exploring | done
+  std::string state;  // waiting | exploring | done
 };
 
 struct CoverageSample {
@@ -66,20 +66,20 @@ struct RunMetrics {
   uint64_t seed = 0;
   double sim_seconds = 0.0;
   double wall_seconds = 0.0;
-  double coverage = 0.0;            // DESIGN §6, of the final SLAM map
-  double ate_rmse_m = 0.0;          // keyframes vs SIM_TRUTH
+  double coverage = 0.0;    // DESIGN §6, of the final SLAM map
+  double ate_rmse_m = 0.0;  // keyframes vs SIM_TRUTH
   double ate_max_m = 0.0;
   int ate_matched = 0;
   int keyframes = 0;
-  int loop_closures = 0;            // loop-closure edges in the final graph
+  int loop_closures = 0;  // loop-closure edges in the final graph
   int64_t collisions = 0;
   int goals_reached = 0;
   int goals_failed = 0;
   int decisions = 0;
-  bool done = false;                // EXPLORE_STATUS said done
-  std::string end_reason;           // done | duration | interrupted
+  bool done = false;                            // EXPLORE_STATUS said done
+  std::string end_reason;                       // done | duration | interrupted
   std::optional<double> time_to_90_coverage_s;  // first sample at >= 0.9
-  double free_area_m2 = 0.0;        // ground-truth free area
+  double free_area_m2 = 0.0;                    // ground-truth free area
   double occupied_precision = 0.0;  // map agreement of the final map (trajectory_metrics.h)
   double free_precision = 0.0;
   // DESIGN §6 of the final graph and map (eval/graph_metrics.h, eval/map_metrics.h).
@@ -89,33 +89,31 @@ struct RunMetrics {
   double ssim = 0.0;
   double map_rmse = 0.0;
   // Table II over the run's uncertainty timeline.
-  double mean_edge_d_opt = 0.0;     // of the final graph
+  double mean_edge_d_opt = 0.0;  // of the final graph
   double d_opt_max = 0.0;
   double d_opt_min = 0.0;
   double d_opt_difference = 0.0;
   double d_opt_reduction_percent = 0.0;
-  Pose2d map_in_world;              // where the SLAM map lies in the world (for plots over the truth)
+  Pose2d map_in_world;  // where the SLAM map lies in the world (for plots over the truth)
 };
 
 struct ExploreResult {
   RunMetrics metrics;
-  std::vector<CoverageSample> coverage;  // one per simulated second, then the final map's
-  std::vector<UncertaintySample> uncertainty;  // same times as `coverage`
-  OccupancyGrid map;                     // final SLAM map, "map" (empty if none)
-  PoseGraph graph;                       // final pose graph, "map"
-  std::vector<Pose2d> slam_path;         // SLAM_POSE re-anchored to the final graph, "map"
+  std::vector<CoverageSample> coverage;           // one per simulated second, then the final map's
+  std::vector<UncertaintySample> uncertainty;     // same times as `coverage`
+  OccupancyGrid map;                              // final SLAM map, "map" (empty if none)
+  PoseGraph graph;                                // final pose graph, "map"
+  std::vector<Pose2d> slam_path;                  // SLAM_POSE re-anchored to the final graph, "map"
   std::vector<std::vector<Point2d>> frontiers_m;  // remaining frontiers' cell centres, "map"
-  Pose2d map_in_world;                   // true pose of the first keyframe
+  Pose2d map_in_world;                            // true pose of the first keyframe
 };
 
 // Runs one exploration. `stop` (may be null) ends the run early, as Ctrl-C;
 // `on_progress` is called every progress_period_s simulated seconds and at
 // the end. Throws std::runtime_error / std::invalid_argument for a bad
 // world, start, method or config.
-ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atomic<bool>* stop = nullptr,
-                                  const std::function<void(const ExploreProgress&)>& on_progress = {});
-
-// "1.0,2.0,0.5" -> pose; nullopt if malformed.
-std::optional<Pose2d> ParsePose(const std::string& text);
+ExploreResult RunExploreInProcess(
+    const ExploreOptions& options, const std::atomic<bool>* stop = nullptr,
+    const std::function<void(const ExploreProgress&)>& on_progress = {});
 
 }  // namespace aslam

@@ -62,7 +62,7 @@ TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
 INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest, ::testing::Values("fd", "ags", "ours"),
                          [](const auto& info) { return info.param; });
 
-// DESIGN §4: in-process runs are deterministic for a seed; only the wall time differs.
+// docs/architecture.md §4: in-process runs are deterministic for a seed; only the wall time differs.
 TEST(ExploreRunnerTest, SameSeedGivesIdenticalMetricsAndTimeline) {
   ExploreResult a = RunExploreInProcess(TestWorld("ours"));
   ExploreResult b = RunExploreInProcess(TestWorld("ours"));
@@ -166,18 +166,6 @@ TEST(ExploreRunnerTest, BadInputsThrowBeforeRunning) {
   o = TestWorld("fd");
   o.world = kRoot + "/worlds/no_such_world";
   EXPECT_THROW(RunExploreInProcess(o), std::exception);
-}
-
-TEST(ParsePoseTest, ParsesXYYawOnly) {
-  const auto p = ParsePose("1.5,-2,0.25");
-  ASSERT_TRUE(p.has_value());
-  EXPECT_DOUBLE_EQ(p->x_m, 1.5);
-  EXPECT_DOUBLE_EQ(p->y_m, -2.0);
-  EXPECT_DOUBLE_EQ(p->yaw_rad, 0.25);
-  EXPECT_FALSE(ParsePose("1,2").has_value());
-  EXPECT_FALSE(ParsePose("1,2,3,4").has_value());
-  EXPECT_FALSE(ParsePose("a,b,c").has_value());
-  EXPECT_FALSE(ParsePose("1;2;3").has_value());
 }
 
 }  // namespace

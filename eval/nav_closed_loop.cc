@@ -30,7 +30,7 @@ NavClosedLoop::NavClosedLoop(const OccupancyGrid& world_map, const Pose2d& start
     last_truth_ = p;
     const double gap_m =
         world_costmap_.ObstacleDistanceM(world_costmap_.WorldToCell({p.x_m, p.y_m})) -
-        0.5 * world_costmap_.resolution_m() - simulator_.options().base.radius_m;
+        0.5 * world_costmap_.resolution_m() - simulator_.options().robot.radius_m;
     min_clearance_m_ = std::min(min_clearance_m_, gap_m);
     return true;
   });

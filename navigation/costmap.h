@@ -39,7 +39,7 @@ namespace aslam {
 
 struct CostmapOptions {
   double robot_radius_m = 0.20;
-  double clearance_margin_m = 0.05;  // inscribed up to radius + this: keep equal to the DWA's safety_margin_m
+  double clearance_margin_m = 0.05;  // inscribed up to radius + this (robot.clearance_margin_m)
   double inflation_margin_m = 0.40;  // decaying cost beyond the inscribed zone
   double cost_scaling_per_m = 5.0;   // cost = (kInscribed - 1) * exp(-scale * (d - radius))
   int occupied_threshold = 65;       // map cells >= this are obstacles (1..100)

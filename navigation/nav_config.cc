@@ -20,17 +20,12 @@ void LoadLocalObstacles(const ConfigReader& c, LocalObstaclesOptions* o) {
 }
 
 void LoadDwa(const ConfigReader& c, DwaOptions* o) {
-  c.ReadInRange("max_linear_mps", &o->max_linear_mps, 0.01, 20.0);
   c.ReadInRange("min_linear_mps", &o->min_linear_mps, -20.0, 20.0);
-  c.ReadInRange("max_angular_radps", &o->max_angular_radps, 0.01, 20.0);
-  c.ReadInRange("max_linear_accel_mps2", &o->max_linear_accel_mps2, 1e-3, 100.0);
-  c.ReadInRange("max_angular_accel_radps2", &o->max_angular_accel_radps2, 1e-3, 100.0);
   c.ReadInRange("control_period_s", &o->control_period_s, 1e-3, 10.0);
   c.ReadInRange("horizon_s", &o->horizon_s, 0.05, 30.0);
   c.ReadInRange("rollout_step_s", &o->rollout_step_s, 1e-3, 10.0);
   c.ReadInRange("linear_samples", &o->linear_samples, 1, 1000);
   c.ReadInRange("angular_samples", &o->angular_samples, 1, 1000);
-  c.ReadInRange("safety_margin_m", &o->safety_margin_m, 0.0, 5.0);
   c.ReadInRange("weight_path_alignment", &o->weight_path_alignment, 0.0, 1000.0);
   c.ReadInRange("weight_goal_heading", &o->weight_goal_heading, 0.0, 1000.0);
   c.ReadInRange("weight_clearance", &o->weight_clearance, 0.0, 1000.0);
@@ -38,8 +33,9 @@ void LoadDwa(const ConfigReader& c, DwaOptions* o) {
   c.ReadInRange("clearance_cap_m", &o->clearance_cap_m, 0.01, 100.0);
   c.ReadInRange("goal_lookahead_m", &o->goal_lookahead_m, 0.01, 100.0);
   c.Read("escape_inside_margin", &o->escape_inside_margin);
-  if (o->min_linear_mps > o->max_linear_mps)
-    c.Fail("min_linear_mps", "must not exceed max_linear_mps");
+  if (o->min_linear_mps > o->max_linear_mps) {
+    c.Fail("min_linear_mps", "must not exceed robot.max_linear_mps = " + Number(o->max_linear_mps));
+  }
   if (o->rollout_step_s > o->horizon_s) c.Fail("rollout_step_s", "must not exceed horizon_s");
 }
 
@@ -71,6 +67,20 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   r.ReadInRange("rear_clearance_margin_m", &ro.rear_clearance_margin_m, 0.0, 5.0);
 }
 
+// The robot's radius and clearance margin are set before: not keys here.
+void LoadCostmap(const ConfigReader& c, CostmapOptions* o) {
+  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
+  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
+  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
+  c.Read("unknown_passable", &o->unknown_passable);
+  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
+}
+
+void LoadGlobalPlanner(const ConfigReader& c, GlobalPlannerOptions* o) {
+  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
+  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
+}
+
 // The components' own checks (cross-field ones included), reported against the section.
 template <typename Options>
 void Validate(const ConfigReader& nav, const std::string& name, const Options& options) {
@@ -83,33 +93,24 @@ void Validate(const ConfigReader& nav, const std::string& name, const Options& o
 
 }  // namespace
 
-void LoadCostmapOptions(const ConfigReader& c, CostmapOptions* o) {
-  c.ReadInRange("clearance_margin_m", &o->clearance_margin_m, 0.0, 5.0);
-  c.ReadInRange("inflation_margin_m", &o->inflation_margin_m, 0.0, 10.0);
-  c.ReadInRange("cost_scaling_per_m", &o->cost_scaling_per_m, 0.0, 1000.0);
-  c.ReadInRange("occupied_threshold", &o->occupied_threshold, 1, 100);
-  c.Read("unknown_passable", &o->unknown_passable);
-  c.ReadInRange("unknown_cost", &o->unknown_cost, 0, 252);
-}
-
-void LoadGlobalPlannerOptions(const ConfigReader& c, GlobalPlannerOptions* o) {
-  c.ReadInRange("cost_weight", &o->cost_weight, 0.0, 1000.0);
-  c.ReadInRange("start_escape_m", &o->start_escape_m, 0.0, 5.0);
-}
-
-NavOptions LoadNavOptions(const ConfigReader& nav) {
+NavOptions LoadNavOptions(const ConfigReader& nav, const RobotOptions& robot) {
   NavOptions options;
-  // One radius for the costmap's inscribed zone and the DWA's collision circle.
-  double robot_radius_m = options.costmap.robot_radius_m;
-  nav.ReadInRange("robot_radius_m", &robot_radius_m, 0.01, 5.0);
-  options.costmap.robot_radius_m = robot_radius_m;
-  options.dwa.robot_radius_m = robot_radius_m;
+  // One radius and one margin for the costmap's inscribed zone and the DWA's
+  // collision circle: the planner never routes through a gap the DWA refuses.
+  options.costmap.robot_radius_m = robot.radius_m;
+  options.costmap.clearance_margin_m = robot.clearance_margin_m;
+  options.dwa.robot_radius_m = robot.radius_m;
+  options.dwa.safety_margin_m = robot.clearance_margin_m;
+  options.dwa.max_linear_mps = robot.max_linear_mps;
+  options.dwa.max_angular_radps = robot.max_angular_radps;
+  options.dwa.max_linear_accel_mps2 = robot.max_linear_accel_mps2;
+  options.dwa.max_angular_accel_radps2 = robot.max_angular_accel_radps2;
 
   LoadNavigator(nav, &options.navigator);
   const ConfigReader costmap = nav.Section("costmap");
-  LoadCostmapOptions(costmap, &options.costmap);
+  LoadCostmap(costmap, &options.costmap);
   const ConfigReader global_planner = nav.Section("global_planner");
-  LoadGlobalPlannerOptions(global_planner, &options.global_planner);
+  LoadGlobalPlanner(global_planner, &options.global_planner);
   const ConfigReader local_obstacles = nav.Section("local_obstacles");
   LoadLocalObstacles(local_obstacles, &options.local_obstacles);
   const ConfigReader dwa = nav.Section("dwa");
@@ -120,27 +121,21 @@ NavOptions LoadNavOptions(const ConfigReader& nav) {
   Validate(nav, nav.KeyPath("local_obstacles"), options.local_obstacles);
   Validate(nav, nav.KeyPath("dwa"), options.dwa);
 
-  // The planner may only route where the DWA drives: one margin for both.
-  if (options.costmap.clearance_margin_m != options.dwa.safety_margin_m) {
-    costmap.Fail("clearance_margin_m", "must equal dwa.safety_margin_m (" + Number(options.dwa.safety_margin_m) +
-                                           "): the planner would route through gaps the DWA refuses");
-  }
-
   // Rollouts leaving the local window read as blocked: the window must hold the longest one.
-  const double reach_m = options.dwa.max_linear_mps * options.dwa.horizon_s + robot_radius_m +
-                         options.dwa.safety_margin_m;
+  const double reach_m = options.dwa.max_linear_mps * options.dwa.horizon_s + robot.radius_m +
+                         robot.clearance_margin_m;
   if (reach_m > 0.5 * options.local_obstacles.window_m) {
     local_obstacles.Fail("window_m",
-                         "must be at least twice the DWA reach, dwa.max_linear_mps * "
-                         "dwa.horizon_s + robot_radius_m + dwa.safety_margin_m = " +
+                         "must be at least twice the DWA reach, robot.max_linear_mps * "
+                         "dwa.horizon_s + robot.radius_m + robot.clearance_margin_m = " +
                              Number(reach_m) + " m");
   }
   return options;
 }
 
 NavOptions LoadNavOptionsFromFile(const std::string& file) {
-  if (file.empty()) return NavOptions{};
-  return LoadNavOptions(ConfigReader::FromFile(file, "nav"));
+  const RobotOptions robot = LoadRobotOptionsFromFile(file);
+  return LoadNavOptions(ConfigReader::FromOptionalFile(file, "nav"), robot);
 }
 
 }  // namespace aslam

@@ -1,11 +1,16 @@
 #pragma once
 
 // The navigator's options (one struct for the whole aslam-nav component) and
-// the loader of the `nav:` config section, validated once at load time.
+// the loader of the `nav:` config section, validated once at load time. The
+// robot's radius, clearance margin and limits come from the `robot:` section
+// (common/robot_config.h). Frontier and utility take their costmap, planner
+// and goal snap from these options: "reachable" and path lengths are where
+// and how the navigator plans.
 
 #include <string>
 
 #include "common/config.h"
+#include "common/robot_config.h"
 #include "navigation/costmap.h"
 #include "navigation/dwa_planner.h"
 #include "navigation/global_planner.h"
@@ -68,14 +73,10 @@ struct NavOptions {
   NavigatorOptions navigator;
 };
 
-// The costmap and planner keys, shared with the utility, whose planning
-// costmap must read like the navigator's.
-void LoadCostmapOptions(const ConfigReader& section, CostmapOptions* options);
-void LoadGlobalPlannerOptions(const ConfigReader& section, GlobalPlannerOptions* options);
-
-// Reads and validates the `nav` section; throws ConfigError naming file, key and value.
-NavOptions LoadNavOptions(const ConfigReader& nav_section);
-// Convenience: the `nav` section of `file`; "" gives the defaults.
+// Reads and validates the `nav` section for `robot`; throws ConfigError naming
+// file, key and value.
+NavOptions LoadNavOptions(const ConfigReader& nav_section, const RobotOptions& robot);
+// Convenience: the `robot` and `nav` sections of `file`; "" gives the defaults.
 NavOptions LoadNavOptionsFromFile(const std::string& file);
 
 }  // namespace aslam

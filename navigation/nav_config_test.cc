@@ -15,7 +15,14 @@ using ::testing::HasSubstr;
 
 const std::string kShippedConfig = ShippedConfigPath();
 
-std::string ErrorOf(const std::string& yaml) { return ConfigErrorOf(LoadNavOptions, yaml, "nav"); }
+NavOptions Load(const std::string& yaml) {
+  return LoadNavOptions(ConfigReader::FromString(yaml, "nav"), RobotOptions{});
+}
+
+std::string ErrorOf(const std::string& yaml) {
+  return ConfigErrorOf([](const ConfigReader& c) { return LoadNavOptions(c, RobotOptions{}); },
+                       yaml, "nav");
+}
 
 TEST(NavConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   const NavOptions shipped = LoadNavOptionsFromFile(kShippedConfig);
@@ -47,17 +54,47 @@ TEST(NavConfig, EmptyFileNameGivesDefaults) {
   EXPECT_DOUBLE_EQ(LoadNavOptionsFromFile("").navigator.goal_tolerance_m, 0.3);
 }
 
-TEST(NavConfig, RobotRadiusFeedsCostmapAndDwa) {
-  const NavOptions options = LoadNavOptions(ConfigReader::FromString(
-      "nav:\n  robot_radius_m: 0.3\n  max_recoveries: 5\n  recovery: {back_off_speed_mps: 0.2}\n"
-      "  costmap: {unknown_passable: false}\n  dwa: {angular_samples: 31}\n",
-      "nav"));
-  EXPECT_DOUBLE_EQ(options.costmap.robot_radius_m, 0.3);
-  EXPECT_DOUBLE_EQ(options.dwa.robot_radius_m, 0.3);
+TEST(NavConfig, ReadsNestedSections) {
+  const NavOptions options = Load(
+      "nav:\n  max_recoveries: 5\n  recovery: {back_off_speed_mps: 0.2}\n"
+      "  costmap: {unknown_passable: false}\n  dwa: {angular_samples: 31}\n");
   EXPECT_EQ(options.navigator.max_recoveries, 5);
   EXPECT_DOUBLE_EQ(options.navigator.recovery.back_off_speed_mps, 0.2);
   EXPECT_FALSE(options.costmap.unknown_passable);
   EXPECT_EQ(options.dwa.angular_samples, 31);
+}
+
+// One radius and one margin for the planner's inscribed zone and the DWA's
+// collision circle, and the DWA's window is the robot's limits.
+TEST(NavConfig, TheRobotSectionReachesCostmapAndDwa) {
+  const std::string file = WriteTestConfig(
+      "nav_robot.yaml",
+      "robot:\n  radius_m: 0.3\n  clearance_margin_m: 0.02\n  max_linear_mps: 0.4\n"
+      "  max_angular_radps: 1.2\n  max_linear_accel_mps2: 0.8\n  max_angular_accel_radps2: 2.5\n"
+      "nav: {goal_tolerance_m: 0.4}\n");
+  const NavOptions options = LoadNavOptionsFromFile(file);
+  EXPECT_DOUBLE_EQ(options.navigator.goal_tolerance_m, 0.4);
+  EXPECT_DOUBLE_EQ(options.costmap.robot_radius_m, 0.3);
+  EXPECT_DOUBLE_EQ(options.dwa.robot_radius_m, 0.3);
+  EXPECT_DOUBLE_EQ(options.costmap.clearance_margin_m, 0.02);
+  EXPECT_DOUBLE_EQ(options.dwa.safety_margin_m, 0.02);
+  EXPECT_DOUBLE_EQ(options.dwa.max_linear_mps, 0.4);
+  EXPECT_DOUBLE_EQ(options.dwa.max_angular_radps, 1.2);
+  EXPECT_DOUBLE_EQ(options.dwa.max_linear_accel_mps2, 0.8);
+  EXPECT_DOUBLE_EQ(options.dwa.max_angular_accel_radps2, 2.5);
+}
+
+TEST(NavConfig, BadRobotKeysNameFileKeyAndValue) {
+  const std::string file =
+      WriteTestConfig("nav_bad_robot.yaml", "robot:\n  max_linear_mps: -1\nnav: {}\n");
+  EXPECT_THAT(ConfigErrorOf([&] { LoadNavOptionsFromFile(file); }),
+              AllOf(HasSubstr("nav_bad_robot.yaml:2"), HasSubstr("robot.max_linear_mps"),
+                    HasSubstr("'-1'")));
+  // A robot too fast for the local window is reported against the window.
+  RobotOptions fast;
+  fast.max_linear_mps = 3.0;
+  EXPECT_THAT(ConfigErrorOf([&] { LoadNavOptions(ConfigReader::FromString("", "nav"), fast); }),
+              AllOf(HasSubstr("nav.local_obstacles.window_m"), HasSubstr("robot.max_linear_mps")));
 }
 
 TEST(NavConfig, BadValuesNameFileKeyAndValue) {
@@ -66,10 +103,16 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
       AllOf(HasSubstr("test.yaml:2"), HasSubstr("nav.goal_tolerance_m"), HasSubstr("'-1'")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa:\n    horizon_s: soon\n"),
               AllOf(HasSubstr("test.yaml:3"), HasSubstr("nav.dwa.horizon_s"), HasSubstr("'soon'")));
-  // The planner's inscribed margin and the DWA's safety margin are one number.
-  EXPECT_THAT(ErrorOf("nav:\n  costmap:\n    clearance_margin_m: 0.02\n"),
-              AllOf(HasSubstr("nav.costmap.clearance_margin_m"), HasSubstr("dwa.safety_margin_m")));
-  EXPECT_EQ(ErrorOf("nav:\n  costmap:\n    clearance_margin_m: 0.02\n  dwa:\n    safety_margin_m: 0.02\n"), "");
+  // The radius, margins and limits are the robot section's: here they are typos.
+  EXPECT_THAT(ErrorOf("nav:\n  costmap:\n    clearance_margin_m: 0.05\n"),
+              AllOf(HasSubstr("test.yaml:3"), HasSubstr("nav.costmap.clearance_margin_m"),
+                    HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("nav:\n  dwa: {safety_margin_m: 0.05}\n"),
+              AllOf(HasSubstr("nav.dwa.safety_margin_m"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("nav:\n  dwa: {max_linear_mps: 0.5}\n"),
+              AllOf(HasSubstr("nav.dwa.max_linear_mps"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("nav:\n  robot_radius_m: 0.2\n"),
+              AllOf(HasSubstr("nav.robot_radius_m"), HasSubstr("unknown key")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {max_speed: 1}\n"),
               AllOf(HasSubstr("nav.dwa.max_speed"), HasSubstr("unknown key")));
   EXPECT_THAT(ErrorOf("nav:\n  recovery: {back_off_speed_mps: 0}\n"),
@@ -81,7 +124,7 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
   EXPECT_THAT(ErrorOf("nav:\n  align_start_rad: 0.2\n"),
               AllOf(HasSubstr("nav.align_done_rad"), HasSubstr("align_start_rad")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {min_linear_mps: 0.6}\n"),
-              AllOf(HasSubstr("nav.dwa.min_linear_mps"), HasSubstr("max_linear_mps")));
+              AllOf(HasSubstr("nav.dwa.min_linear_mps"), HasSubstr("robot.max_linear_mps")));
   // Cross-section: the local window must hold the DWA's longest rollout.
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {horizon_s: 10}\n"),
               AllOf(HasSubstr("nav.local_obstacles.window_m"), HasSubstr("horizon_s")));

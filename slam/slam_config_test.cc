@@ -39,8 +39,7 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.loop_closure.window.linear_m, y.loop_closure.window.linear_m);
   EXPECT_EQ(x.loop_closure.window.angular_rad, y.loop_closure.window.angular_rad);
   EXPECT_EQ(x.loop_closure.min_response, y.loop_closure.min_response);
-  EXPECT_EQ(x.loop_closure.keyframes_between_attempts,
-            y.loop_closure.keyframes_between_attempts);
+  EXPECT_EQ(x.loop_closure.keyframes_between_attempts, y.loop_closure.keyframes_between_attempts);
   EXPECT_EQ(x.loop_closure.max_chi_square, y.loop_closure.max_chi_square);
 
   EXPECT_EQ(x.scan_matcher.resolution_m, y.scan_matcher.resolution_m);
@@ -81,13 +80,41 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
 
 // Tripwire: a field added to an options struct changes its size (mostly), and
 // then needs a key in slam_config.cc, a line in config/aslam.yaml and a line above.
-struct KeyframeFields { double d[2]; };
-struct FrontEndFields { double d0; int i0; double d[5]; };
-struct LoopClosureFields { bool b0; double d0; int i[2]; double d[3]; int i2; double d2; };
-struct ScanMatcherFields { double d[2]; int i0; double d1[2]; int i1; double d2[6]; };
-struct OptimizerFields { int i0; double d[2]; int i1; };
-struct MapperFields { double d[9]; };
-struct InputFields { int i0; double d[3]; };
+struct KeyframeFields {
+  double d[2];
+};
+struct FrontEndFields {
+  double d0;
+  int i0;
+  double d[5];
+};
+struct LoopClosureFields {
+  bool b0;
+  double d0;
+  int i[2];
+  double d[3];
+  int i2;
+  double d2;
+};
+struct ScanMatcherFields {
+  double d[2];
+  int i0;
+  double d1[2];
+  int i1;
+  double d2[6];
+};
+struct OptimizerFields {
+  int i0;
+  double d[2];
+  int i1;
+};
+struct MapperFields {
+  double d[9];
+};
+struct InputFields {
+  int i0;
+  double d[3];
+};
 static_assert(sizeof(KeyframeOptions) == sizeof(KeyframeFields));
 static_assert(sizeof(FrontEndOptions) == sizeof(FrontEndFields));
 static_assert(sizeof(LoopClosureOptions) == sizeof(LoopClosureFields));
@@ -224,9 +251,9 @@ slam:
 }
 
 TEST(SlamConfig, BadValuesNameFileKeyAndValue) {
-  EXPECT_THAT(ErrorOf("slam:\n  keyframe:\n    travel_m: -0.3\n"),
-              AllOf(HasSubstr("test.yaml:3"), HasSubstr("slam.keyframe.travel_m"),
-                    HasSubstr("'-0.3'")));
+  EXPECT_THAT(
+      ErrorOf("slam:\n  keyframe:\n    travel_m: -0.3\n"),
+      AllOf(HasSubstr("test.yaml:3"), HasSubstr("slam.keyframe.travel_m"), HasSubstr("'-0.3'")));
   EXPECT_THAT(ErrorOf("slam:\n  front_end:\n    window: {linear_m: wide}\n"),
               AllOf(HasSubstr("test.yaml:3"), HasSubstr("slam.front_end.window.linear_m"),
                     HasSubstr("'wide'")));
@@ -259,9 +286,9 @@ TEST(SlamConfig, CrossFieldChecksFailClearly) {
               AllOf(HasSubstr("test.yaml:3"), HasSubstr("slam.loop_closure.recent_chain_keyframes"),
                     HasSubstr("'15'"), HasSubstr("local_map_keyframes = 20")));
   // A check only the scan matcher makes (pyramid size), reported against its section.
-  EXPECT_THAT(ErrorOf("slam:\n  scan_matcher: {coarse_factor: 4, coarse_levels: 6}\n"),
-              AllOf(HasSubstr("test.yaml"), HasSubstr("slam.scan_matcher"),
-                    HasSubstr("coarse_levels")));
+  EXPECT_THAT(
+      ErrorOf("slam:\n  scan_matcher: {coarse_factor: 4, coarse_levels: 6}\n"),
+      AllOf(HasSubstr("test.yaml"), HasSubstr("slam.scan_matcher"), HasSubstr("coarse_levels")));
 }
 
 }  // namespace

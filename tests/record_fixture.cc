@@ -20,6 +20,8 @@
 
 #include "common/channels.h"
 #include "common/inproc_host.h"
+#include "common/robot_config.h"
+#include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_config.h"
 #include "drivers/sim/sim_node.h"
@@ -31,7 +33,6 @@
 #include "slam/slam_node.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -67,21 +68,26 @@ class Recorder {
 int Run(const std::string& kind, const std::string& out, double duration_s) {
   const bool exploration = kind == "exploration";
   if (!exploration && kind != "decision") {
-    std::fprintf(stderr, "record_fixture: unknown kind '%s' (decision or exploration)\n", kind.c_str());
+    std::fprintf(stderr, "record_fixture: unknown kind '%s' (decision or exploration)\n",
+                 kind.c_str());
     return 2;
   }
   const std::string root = ASLAM_SOURCE_DIR;
   const std::string config = root + "/config/aslam.yaml";
   const WorldInfo world = LoadWorld(root + "/worlds/test");
-  Simulator sim(world.map.grid, world.start, LoadSimulatorOptionsFromFile(config));
+  // The robot once, for the simulator and the navigator, whose planning frontier and utility share.
+  const RobotOptions robot = LoadRobotOptionsFromFile(config);
+  const NavOptions nav_options = LoadNavOptions(ConfigReader::FromFile(config, "nav"), robot);
+  Simulator sim(world.map.grid, world.start,
+                LoadSimulatorOptions(ConfigReader::FromFile(config, "sim"), robot));
   InProcessHost host;
-  Recorder recorder(host.lcm(), out, sim,
-                    exploration ? std::set<std::string>{channels::kOdometry, channels::kLidarScan,
-                                                        channels::kPoseGraph}
-                                : std::set<std::string>{channels::kSlamMap, channels::kSlamPose,
-                                                        channels::kPoseGraph, channels::kFrontiers,
-                                                        channels::kUtilityScores,
-                                                        channels::kExploreGoal});
+  Recorder recorder(
+      host.lcm(), out, sim,
+      exploration
+          ? std::set<std::string>{channels::kOdometry, channels::kLidarScan, channels::kPoseGraph}
+          : std::set<std::string>{channels::kSlamMap, channels::kSlamPose, channels::kPoseGraph,
+                                  channels::kFrontiers, channels::kUtilityScores,
+                                  channels::kExploreGoal});
   if (!recorder.good()) {
     std::fprintf(stderr, "record_fixture: cannot write %s\n", out.c_str());
     return 1;
@@ -91,10 +97,12 @@ int Run(const std::string& kind, const std::string& out, double duration_s) {
   SimNode sim_node(host.lcm(), sim, sim_options);
   const SlamConfig slam_config = LoadSlamConfigFromFile(config);
   SlamNode slam_node(host.lcm(), slam_config.slam, slam_config.node);
-  FrontierNode frontier_node(host.lcm(), LoadFrontierOptionsFromFile(config));
-  UtilityNode utility_node(host.lcm(), LoadUtilityOptionsFromFile(config));
+  FrontierNode frontier_node(
+      host.lcm(), LoadFrontierOptions(ConfigReader::FromFile(config, "frontier"), nav_options));
+  UtilityNode utility_node(
+      host.lcm(), LoadUtilityOptions(ConfigReader::FromFile(config, "utility"), nav_options));
   std::optional<NavNode> nav_node;
-  if (exploration) nav_node.emplace(host.lcm(), LoadNavOptionsFromFile(config));
+  if (exploration) nav_node.emplace(host.lcm(), nav_options);
   const int64_t end_us = static_cast<int64_t>(duration_s * 1e6);
   host.Run([&] {
     sim_node.Tick();
@@ -103,7 +111,8 @@ int Run(const std::string& kind, const std::string& out, double duration_s) {
   std::printf("recorded %lld events, %d decisions, %zu keyframes, %lld loop closures, to %s\n",
               static_cast<long long>(recorder.events()), utility_node.decisions(),
               slam_node.slam().graph().nodes.size(),
-              static_cast<long long>(slam_node.slam().counters().loop_closures_accepted), out.c_str());
+              static_cast<long long>(slam_node.slam().counters().loop_closures_accepted),
+              out.c_str());
   return 0;
 }
 

@@ -7,7 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/config.h"
+#include "common/robot_config.h"
+#include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_config.h"
 #include "drivers/sim/simulator.h"
@@ -15,7 +16,6 @@
 #include "navigation/nav_config.h"
 #include "slam/slam_config.h"
 #include "utility/utility_config.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -37,11 +37,12 @@ TEST(ShippedFiles, EveryConfigLoadsEverySection) {
   ASSERT_FALSE(configs.empty());
   for (const auto& file : configs) {
     SCOPED_TRACE(file.string());
-    EXPECT_NO_THROW(LoadSimulatorOptions(ConfigReader::FromFile(file.string(), "sim")));
-    EXPECT_NO_THROW(LoadSlamConfig(ConfigReader::FromFile(file.string(), "slam")));
-    EXPECT_NO_THROW(LoadNavOptions(ConfigReader::FromFile(file.string(), "nav")));
-    EXPECT_NO_THROW(LoadFrontierOptions(ConfigReader::FromFile(file.string(), "frontier")));
-    EXPECT_NO_THROW(LoadUtilityOptions(ConfigReader::FromFile(file.string(), "utility")));
+    EXPECT_NO_THROW(LoadRobotOptionsFromFile(file.string()));
+    EXPECT_NO_THROW(LoadSimulatorOptionsFromFile(file.string()));
+    EXPECT_NO_THROW(LoadSlamConfigFromFile(file.string()));
+    EXPECT_NO_THROW(LoadNavOptionsFromFile(file.string()));
+    EXPECT_NO_THROW(LoadFrontierOptionsFromFile(file.string()));
+    EXPECT_NO_THROW(LoadUtilityOptionsFromFile(file.string()));
   }
 }
 

@@ -46,8 +46,12 @@ TEST(UtilityReplay, SameFrontiersScoresAndGoalsAsRecorded) {
   lcm::LogFile log(kRoot + "/logs/decision_fixture.lcmlog", "r");
   ASSERT_TRUE(log.good());
   InProcessHost host;
-  FrontierNode frontier_node(host.lcm(), LoadFrontierOptionsFromFile(kConfig));
-  UtilityNode utility_node(host.lcm(), LoadUtilityOptionsFromFile(kConfig));
+  // Frontier and utility plan as the shipped navigator does, robot included.
+  const NavOptions nav = LoadNavOptionsFromFile(kConfig);
+  FrontierNode frontier_node(host.lcm(),
+                             LoadFrontierOptions(ConfigReader::FromFile(kConfig, "frontier"), nav));
+  UtilityNode utility_node(host.lcm(),
+                           LoadUtilityOptions(ConfigReader::FromFile(kConfig, "utility"), nav));
   Outputs replayed, recorded;
   Subscriptions capture(host.lcm());
   capture.Add<frontier_list_t>(channels::kFrontiers, [&](const frontier_list_t& m) {

@@ -3,8 +3,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "navigation/nav_config.h"
-
 namespace aslam {
 namespace {
 
@@ -28,9 +26,12 @@ void LoadHallucination(const ConfigReader& c, HallucinationOptions* o) {
 
 }  // namespace
 
-UtilityOptions LoadUtilityOptions(const ConfigReader& u) {
+UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) {
   UtilityOptions options;
   GoalSelectorOptions& s = options.selector;
+  s.costmap = nav.costmap;
+  s.global_planner = nav.global_planner;
+  s.goal_snap_m = nav.navigator.goal_snap_m;
 
   std::string method = UtilityMethodName(s.method);
   u.Read("method", &method);
@@ -51,12 +52,7 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u) {
   u.ReadInRange("min_distance_m", &s.min_distance_m, 0.0, 100.0);
   u.ReadInRange("max_path_length_m", &s.max_path_length_m, 0.0, 1e6);
   u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
-  u.ReadInRange("goal_snap_m", &s.goal_snap_m, 0.0, 10.0);
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
-  u.ReadInRange("robot_radius_m", &s.costmap.robot_radius_m, 0.01, 5.0);
-
-  LoadCostmapOptions(u.Section("costmap"), &s.costmap);
-  LoadGlobalPlannerOptions(u.Section("global_planner"), &s.global_planner);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 
@@ -72,8 +68,8 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u) {
 }
 
 UtilityOptions LoadUtilityOptionsFromFile(const std::string& file) {
-  if (file.empty()) return UtilityOptions{};
-  return LoadUtilityOptions(ConfigReader::FromFile(file, "utility"));
+  const NavOptions nav = LoadNavOptionsFromFile(file);
+  return LoadUtilityOptions(ConfigReader::FromOptionalFile(file, "utility"), nav);
 }
 
 }  // namespace aslam

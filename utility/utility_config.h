@@ -2,10 +2,14 @@
 
 // The utility's options (one struct for the whole aslam-utility component)
 // and the loader of the `utility:` config section, validated once at load time.
+// Paths are planned as the navigator plans them: the costmap (with the robot's
+// radius and clearance margin), the planner options and the goal snap come
+// from the navigator's options, so path lengths and reachability are its own.
 
 #include <string>
 
 #include "common/config.h"
+#include "navigation/nav_config.h"
 #include "utility/goal_selector.h"
 
 namespace aslam {
@@ -16,9 +20,10 @@ struct UtilityOptions {
   double done_timeout_s = 10.0;
 };
 
-// Reads and validates the `utility` section; throws ConfigError naming file, key and value.
-UtilityOptions LoadUtilityOptions(const ConfigReader& utility_section);
-// Convenience: the `utility` section of `file`; "" gives the defaults.
+// Reads and validates the `utility` section, planning as `nav` does; throws
+// ConfigError naming file, key and value.
+UtilityOptions LoadUtilityOptions(const ConfigReader& utility_section, const NavOptions& nav);
+// Convenience: the `robot`, `nav` and `utility` sections of `file`; "" gives the defaults.
 UtilityOptions LoadUtilityOptionsFromFile(const std::string& file);
 
 }  // namespace aslam

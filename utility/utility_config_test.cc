@@ -7,8 +7,6 @@
 
 #include "common/config_testing.h"
 
-#include "navigation/nav_config.h"
-
 namespace aslam {
 namespace {
 
@@ -17,7 +15,14 @@ using ::testing::HasSubstr;
 
 const std::string kShippedConfig = ShippedConfigPath();
 
-std::string ErrorOf(const std::string& yaml) { return ConfigErrorOf(LoadUtilityOptions, yaml, "utility"); }
+UtilityOptions Load(const std::string& yaml) {
+  return LoadUtilityOptions(ConfigReader::FromString(yaml, "utility"), NavOptions{});
+}
+
+std::string ErrorOf(const std::string& yaml) {
+  return ConfigErrorOf([](const ConfigReader& c) { return LoadUtilityOptions(c, NavOptions{}); },
+                       yaml, "utility");
+}
 
 TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   const UtilityOptions shipped = LoadUtilityOptionsFromFile(kShippedConfig);
@@ -59,20 +64,43 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(h.loop_closure_scale, hd.loop_closure_scale);
 }
 
-TEST(UtilityConfig, ShippedPlanningCostmapIsTheNavigators) {
-  // Path lengths and reachability must be the ones the navigator will see.
-  const UtilityOptions utility = LoadUtilityOptionsFromFile(kShippedConfig);
-  const NavOptions nav = LoadNavOptionsFromFile(kShippedConfig);
-  EXPECT_DOUBLE_EQ(utility.selector.costmap.robot_radius_m, nav.costmap.robot_radius_m);
-  EXPECT_DOUBLE_EQ(utility.selector.costmap.inflation_margin_m, nav.costmap.inflation_margin_m);
-  EXPECT_DOUBLE_EQ(utility.selector.costmap.cost_scaling_per_m, nav.costmap.cost_scaling_per_m);
-  EXPECT_EQ(utility.selector.costmap.occupied_threshold, nav.costmap.occupied_threshold);
-  EXPECT_EQ(utility.selector.costmap.unknown_passable, nav.costmap.unknown_passable);
-  EXPECT_EQ(utility.selector.costmap.unknown_cost, nav.costmap.unknown_cost);
-  EXPECT_DOUBLE_EQ(utility.selector.global_planner.cost_weight, nav.global_planner.cost_weight);
-  EXPECT_DOUBLE_EQ(utility.selector.global_planner.start_escape_m,
-                   nav.global_planner.start_escape_m);
-  EXPECT_DOUBLE_EQ(utility.selector.goal_snap_m, nav.navigator.goal_snap_m);
+// Path lengths and reachability must be the ones the navigator will see:
+// the robot and nav sections reach the utility's planning costmap and planner.
+TEST(UtilityConfig, PlansAsTheNavigatorPlans) {
+  const std::string file = WriteTestConfig(
+      "utility_nav.yaml",
+      "robot: {radius_m: 0.3, clearance_margin_m: 0.02}\n"
+      "nav:\n  goal_tolerance_m: 0.5\n  goal_snap_m: 0.25\n"
+      "  costmap: {inflation_margin_m: 0.5, cost_scaling_per_m: 4.0, occupied_threshold: 70,\n"
+      "            unknown_passable: false, unknown_cost: 40}\n"
+      "  global_planner: {cost_weight: 2.0, start_escape_m: 0.4}\n"
+      "utility: {method: fd}\n");
+  const UtilityOptions utility = LoadUtilityOptionsFromFile(file);
+  const GoalSelectorOptions& s = utility.selector;
+  EXPECT_EQ(s.method, UtilityMethod::kFd);
+  EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, 0.3);
+  EXPECT_DOUBLE_EQ(s.costmap.clearance_margin_m, 0.02);
+  EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, 0.5);
+  EXPECT_DOUBLE_EQ(s.costmap.cost_scaling_per_m, 4.0);
+  EXPECT_EQ(s.costmap.occupied_threshold, 70);
+  EXPECT_FALSE(s.costmap.unknown_passable);
+  EXPECT_EQ(s.costmap.unknown_cost, 40);
+  EXPECT_DOUBLE_EQ(s.global_planner.cost_weight, 2.0);
+  EXPECT_DOUBLE_EQ(s.global_planner.start_escape_m, 0.4);
+  EXPECT_DOUBLE_EQ(s.goal_snap_m, 0.25);
+}
+
+TEST(UtilityConfig, BadRobotOrNavKeysNameFileKeyAndValue) {
+  const std::string robot =
+      WriteTestConfig("utility_bad_robot.yaml", "robot:\n  clearance_margin_m: wide\n");
+  EXPECT_THAT(ConfigErrorOf([&] { LoadUtilityOptionsFromFile(robot); }),
+              AllOf(HasSubstr("utility_bad_robot.yaml:2"), HasSubstr("robot.clearance_margin_m"),
+                    HasSubstr("'wide'")));
+  const std::string nav =
+      WriteTestConfig("utility_bad_nav.yaml", "nav:\n  costmap: {unknown_cost: 300}\n");
+  EXPECT_THAT(ConfigErrorOf([&] { LoadUtilityOptionsFromFile(nav); }),
+              AllOf(HasSubstr("utility_bad_nav.yaml:2"), HasSubstr("nav.costmap.unknown_cost"),
+                    HasSubstr("'300'")));
 }
 
 TEST(UtilityConfig, EmptyFileNameGivesDefaults) {
@@ -80,18 +108,16 @@ TEST(UtilityConfig, EmptyFileNameGivesDefaults) {
 }
 
 TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
-  const UtilityOptions fd = LoadUtilityOptions(ConfigReader::FromString(
-      "utility:\n  method: fd\n  blacklist_radius_m: 1.0\n  done_timeout_s: 3\n", "utility"));
+  const UtilityOptions fd =
+      Load("utility:\n  method: fd\n  blacklist_radius_m: 1.0\n  done_timeout_s: 3\n");
   EXPECT_EQ(fd.selector.method, UtilityMethod::kFd);
   EXPECT_DOUBLE_EQ(fd.selector.blacklist_radius_m, 1.0);
   EXPECT_DOUBLE_EQ(fd.done_timeout_s, 3.0);
-  const UtilityOptions ags = LoadUtilityOptions(ConfigReader::FromString(
-      "utility:\n  method: ags\n  distance_unit: cells\n  robot_radius_m: 0.3\n"
-      "  hallucination: {exclude_newest_nodes: 5}\n",
-      "utility"));
+  const UtilityOptions ags = Load(
+      "utility:\n  method: ags\n  distance_unit: cells\n"
+      "  hallucination: {exclude_newest_nodes: 5}\n");
   EXPECT_EQ(ags.selector.method, UtilityMethod::kAgs);
   EXPECT_EQ(ags.selector.path_entropy.distance_unit, DistanceUnit::kCells);
-  EXPECT_DOUBLE_EQ(ags.selector.costmap.robot_radius_m, 0.3);
   EXPECT_EQ(ags.selector.hallucination.exclude_newest_nodes, 5);
 }
 
@@ -107,12 +133,18 @@ TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {
               AllOf(HasSubstr("utility.blacklist_radius_m"), HasSubstr("'wide'")));
   EXPECT_THAT(ErrorOf("utility:\n  done_timeout_s: -1\n"), HasSubstr("utility.done_timeout_s"));
   EXPECT_THAT(ErrorOf("utility:\n  hallucination:\n    path_cells_per_node: 0\n"),
-              AllOf(HasSubstr("test.yaml:3"), HasSubstr("utility.hallucination.path_cells_per_node"),
-                    HasSubstr("'0'")));
-  EXPECT_THAT(ErrorOf("utility:\n  hallucination: {odometry_sigma_xy: 0.05}\n"),
-              AllOf(HasSubstr("utility.hallucination.odometry_sigma_xy"), HasSubstr("positive definite")));
-  EXPECT_THAT(ErrorOf("utility:\n  costmap: {unknown_cost: 300}\n"),
-              AllOf(HasSubstr("utility.costmap.unknown_cost"), HasSubstr("'300'")));
+              AllOf(HasSubstr("test.yaml:3"),
+                    HasSubstr("utility.hallucination.path_cells_per_node"), HasSubstr("'0'")));
+  EXPECT_THAT(
+      ErrorOf("utility:\n  hallucination: {odometry_sigma_xy: 0.05}\n"),
+      AllOf(HasSubstr("utility.hallucination.odometry_sigma_xy"), HasSubstr("positive definite")));
+  // The planning keys are nav's and the robot's: here they are typos.
+  EXPECT_THAT(ErrorOf("utility:\n  costmap: {unknown_cost: 50}\n"),
+              AllOf(HasSubstr("utility.costmap"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("utility:\n  goal_snap_m: 0.15\n"),
+              AllOf(HasSubstr("utility.goal_snap_m"), HasSubstr("unknown key")));
+  EXPECT_THAT(ErrorOf("utility:\n  robot_radius_m: 0.2\n"),
+              AllOf(HasSubstr("utility.robot_radius_m"), HasSubstr("unknown key")));
   EXPECT_THAT(ErrorOf("utility:\n  lamda: 0.6\n"),
               AllOf(HasSubstr("utility.lamda"), HasSubstr("unknown key")));
   EXPECT_THAT(ErrorOf("utility:\n  hallucination: {sigma: 1}\n"),

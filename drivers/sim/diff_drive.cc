@@ -17,7 +17,7 @@ double MoveTowards(double current, double target, double max_change) {
 
 }  // namespace
 
-DiffDriveBase::DiffDriveBase(const DiffDriveOptions& options, const Pose2d& pose_in_world)
+DiffDriveBase::DiffDriveBase(const RobotOptions& options, const Pose2d& pose_in_world)
     : options_(options), pose_(pose_in_world) {}
 
 void DiffDriveBase::SetPose(const Pose2d& pose_in_world) {

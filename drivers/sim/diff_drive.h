@@ -1,7 +1,8 @@
 #pragma once
 
-// The simulated differential-drive base: velocity and acceleration limits,
-// exact arc integration and stop-at-contact collision with the world.
+// The simulated differential-drive base: the robot's velocity and
+// acceleration limits, exact arc integration and stop-at-contact collision of
+// its disc with the world.
 
 #include "common/pose2d.h"
 #include "drivers/sim/sim_world.h"
@@ -21,9 +22,9 @@ struct DiffDriveStepResult {
 
 class DiffDriveBase {
  public:
-  explicit DiffDriveBase(const DiffDriveOptions& options, const Pose2d& pose_in_world = {});
+  explicit DiffDriveBase(const RobotOptions& options, const Pose2d& pose_in_world = {});
 
-  const DiffDriveOptions& options() const { return options_; }
+  const RobotOptions& options() const { return options_; }
   const Pose2d& pose() const { return pose_; }  // base in the world frame
   const Twist2d& velocity() const { return velocity_; }
 
@@ -44,7 +45,7 @@ class DiffDriveBase {
                              double dt_s);
 
  private:
-  DiffDriveOptions options_;
+  RobotOptions options_;
   Pose2d pose_;
   Twist2d velocity_;
 };

@@ -46,7 +46,7 @@ TEST(DiffDriveTest, ArcIntegrationIsExact) {
 
 TEST(DiffDriveTest, AccelerationAndVelocityLimits) {
   const SimWorld world(MakeRoom());
-  DiffDriveOptions options;  // 0.5 m/s, 1.8 rad/s, 1 m/s^2, 3 rad/s^2
+  RobotOptions options;  // 0.5 m/s, 1.8 rad/s, 1 m/s^2, 3 rad/s^2
   DiffDriveBase base(options, {5.0, 3.0, 0.0});
   base.Step({10.0, -10.0}, kDtS, world);
   EXPECT_NEAR(base.velocity().linear_mps, 0.01, 1e-15);
@@ -74,7 +74,7 @@ TEST(DiffDriveTest, AccelerationAndVelocityLimits) {
 
 TEST(DiffDriveTest, DrivingIntoAWallStopsAtContact) {
   const SimWorld world(MakeRoom());
-  DiffDriveOptions options;
+  RobotOptions options;
   DiffDriveBase base(options, {8.0, 3.0, 0.0});  // the wall face is at x = 10
   int collisions = 0;
   for (int i = 0; i < 1000 && collisions == 0; ++i) {
@@ -106,7 +106,7 @@ TEST(DiffDriveTest, LongStepsDoNotTunnelThroughThinWalls) {
   OccupancyGrid grid = MakeRoom();
   for (int row = 0; row < 122; ++row) grid.at({100, row}) = 100;  // x in [4.95, 5.0]
   const SimWorld world(grid);
-  DiffDriveOptions options;
+  RobotOptions options;
   options.max_linear_accel_mps2 = 100.0;
   DiffDriveBase base(options, {4.0, 3.0, 0.0});
   // One 2.4 s step at 0.5 m/s ends at x = 5.2, clear on the far side of the wall.
@@ -116,7 +116,7 @@ TEST(DiffDriveTest, LongStepsDoNotTunnelThroughThinWalls) {
 
 TEST(DiffDriveTest, ArcIntoAWallStopsOnTheArc) {
   const SimWorld world(MakeRoom());
-  DiffDriveOptions options;
+  RobotOptions options;
   DiffDriveBase base(options, {9.0, 3.0, 0.0});
   bool collided = false;
   for (int i = 0; i < 1000 && !collided; ++i)

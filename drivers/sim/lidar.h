@@ -31,10 +31,11 @@ class LidarModel {
   // One sweep from the true ranges plus noise with sigma = noise_sigma_m +
   // noise_sigma_fraction * range. Range 0 means no return: nothing within
   // range_max_m, a dropout, or a noisy reading below range_min_m; noisy
-  // ranges are clamped to range_max_m. sensor_pose is zero (sensor at the
-  // base). Takes exactly one number from `rng`, which seeds a cv::RNG that
-  // draws one uniform (dropout) per beam, then one normal per beam, whatever
-  // the geometry: a seed fixes the output bit for bit.
+  // ranges are clamped to range_max_m. sensor_pose is left zero: the caller
+  // sets the mount (the sensor in the base frame). Takes exactly one number
+  // from `rng`, which seeds a cv::RNG that draws one uniform (dropout) per
+  // beam, then one normal per beam, whatever the geometry: a seed fixes the
+  // output bit for bit.
   LidarScan Scan(const SimWorld& world, const Pose2d& sensor_pose_in_world, int64_t utime,
                  int64_t seq, std::mt19937_64& rng) const;
 

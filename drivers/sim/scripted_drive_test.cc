@@ -41,14 +41,14 @@ class DriveFileTest : public ::testing::Test {
     return path_.string();
   }
   void TearDown() override { std::filesystem::remove(path_); }
-  std::filesystem::path path_ =
-      std::filesystem::temp_directory_path() / ("aslam_drive_test_" + std::to_string(::getpid()) + ".yaml");
+  std::filesystem::path path_ = std::filesystem::temp_directory_path() /
+                                ("aslam_drive_test_" + std::to_string(::getpid()) + ".yaml");
 };
 
 TEST_F(DriveFileTest, LoadsSegments) {
-  const ScriptedDrive drive = LoadScriptedDrive(
-      Write("repeat: true\nsegments:\n  - {duration_s: 2, linear_mps: 0.3}\n"
-            "  - {duration_s: 1, angular_radps: -0.5}\n"));
+  const ScriptedDrive drive =
+      LoadScriptedDrive(Write("repeat: true\nsegments:\n  - {duration_s: 2, linear_mps: 0.3}\n"
+                              "  - {duration_s: 1, angular_radps: -0.5}\n"));
   ASSERT_EQ(drive.segments().size(), 2u);
   EXPECT_TRUE(drive.repeat());
   EXPECT_DOUBLE_EQ(drive.segments()[1].angular_radps, -0.5);
@@ -64,8 +64,9 @@ TEST_F(DriveFileTest, BadFilesNameKeyAndValue) {
     }
     return std::string();
   };
-  EXPECT_THAT(error("segments:\n  - {duration_s: -1}\n"),
-              AllOf(HasSubstr(path_.string()), HasSubstr("segments[0].duration_s"), HasSubstr("'-1'")));
+  EXPECT_THAT(
+      error("segments:\n  - {duration_s: -1}\n"),
+      AllOf(HasSubstr(path_.string()), HasSubstr("segments[0].duration_s"), HasSubstr("'-1'")));
   EXPECT_THAT(error("segments:\n  - {linear_mps: 0.2}\n"), HasSubstr("needs a duration"));
   EXPECT_THAT(error("segments:\n  - {duration_s: 1, speed: 2}\n"),
               AllOf(HasSubstr("segments[0].speed"), HasSubstr("unknown key")));

@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "common/inproc_host.h"
 #include "common/map_io.h"
 #include "drivers/sim/lidar.h"
-#include "drivers/sim/sim_world.h"
-#include "common/inproc_host.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_node.h"
+#include "drivers/sim/sim_world.h"
 #include "drivers/sim/simulator.h"
 
 namespace aslam {
@@ -131,8 +131,8 @@ void BM_SimulatorSecond(benchmark::State& state) {
         turning = ahead < (turning ? 1.5f : 0.8f) || sim.in_collision();
       }
       if (out.truth) {
-        driven_m += std::hypot(out.truth->pose.x_m - last_truth.x_m,
-                               out.truth->pose.y_m - last_truth.y_m);
+        driven_m +=
+            std::hypot(out.truth->pose.x_m - last_truth.x_m, out.truth->pose.y_m - last_truth.y_m);
         last_truth = out.truth->pose;
       }
       benchmark::DoNotOptimize(out);

@@ -7,8 +7,9 @@
 
 namespace aslam {
 
-SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
+SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim, const RobotOptions& robot) {
   SimulatorOptions options;
+  options.robot = robot;
   sim.Read("seed", &options.seed);
   sim.ReadInRange("physics_rate_hz", &options.physics_rate_hz, 1.0, 10000.0);
   sim.ReadInRange("odometry_rate_hz", &options.odometry_rate_hz, 0.1, 10000.0);
@@ -29,14 +30,6 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
   lidar.ReadInRange("dropout_probability", &l.dropout_probability, 0.0, 1.0);
   if (l.range_min_m >= l.range_max_m) lidar.Fail("range_min_m", "must be below range_max_m");
 
-  const ConfigReader base = sim.Section("base");
-  DiffDriveOptions& b = options.base;
-  base.ReadInRange("radius_m", &b.radius_m, 0.01, 5.0);
-  base.ReadInRange("max_linear_mps", &b.max_linear_mps, 0.0, 20.0);
-  base.ReadInRange("max_angular_radps", &b.max_angular_radps, 0.0, 20.0);
-  base.ReadInRange("max_linear_accel_mps2", &b.max_linear_accel_mps2, 1e-3, 100.0);
-  base.ReadInRange("max_angular_accel_radps2", &b.max_angular_accel_radps2, 1e-3, 100.0);
-
   const ConfigReader noise = sim.Section("odometry_noise");
   OdometryNoiseOptions& n = options.odometry_noise;
   noise.ReadInRange("alpha1", &n.alpha1, 0.0, 10.0);
@@ -55,8 +48,8 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim) {
 }
 
 SimulatorOptions LoadSimulatorOptionsFromFile(const std::string& file) {
-  if (file.empty()) return SimulatorOptions{};
-  return LoadSimulatorOptions(ConfigReader::FromFile(file, "sim"));
+  const RobotOptions robot = LoadRobotOptionsFromFile(file);
+  return LoadSimulatorOptions(ConfigReader::FromOptionalFile(file, "sim"), robot);
 }
 
 }  // namespace aslam

@@ -74,7 +74,8 @@ double RunRealTime(lcm::LCM& lcm, SimNode& node, const RealTimeOptions& options,
       const auto due = wall_start + std::chrono::microseconds(static_cast<int64_t>(
                                         sim_elapsed_us / options.real_time_factor));
       for (auto now = Clock::now(); now < due && !stop.load(); now = Clock::now()) {
-        const auto wait_ms = std::chrono::duration_cast<std::chrono::milliseconds>(due - now).count();
+        const auto wait_ms =
+            std::chrono::duration_cast<std::chrono::milliseconds>(due - now).count();
         if (wait_ms == 0) {
           std::this_thread::sleep_until(due);  // under 1 ms: LCM's timeout cannot express it
         } else if (lcm.handleTimeout(static_cast<int>(wait_ms)) < 0) {

@@ -180,8 +180,7 @@ TEST(SimWorldTest, DistanceFieldCastEqualsPlainTraversalExactly) {
       case 1:  // exact axis directions
         a = std::round(a / (M_PI / 2)) * (M_PI / 2);
         break;
-      default:
-        break;
+      default: break;
     }
     const double max_range = i % 5 == 0 ? SimWorld::kNoHit : range(rng);
     const double fast = world.CastRay(p, a, max_range);

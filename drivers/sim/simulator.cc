@@ -20,6 +20,10 @@ void RequirePositive(const std::string& name, double value) {
   if (!(std::isfinite(value) && value > 0.0)) ThrowBadOption(name, value, "must be finite and > 0");
 }
 
+void RequireFinite(const std::string& name, double value) {
+  if (!std::isfinite(value)) ThrowBadOption(name, value, "must be finite");
+}
+
 void RequireNonNegative(const std::string& name, double value) {
   if (!(std::isfinite(value) && value >= 0.0)) {
     ThrowBadOption(name, value, "must be finite and >= 0");
@@ -94,12 +98,15 @@ void ValidateSimulatorOptions(const SimulatorOptions& options) {
     ThrowBadOption("lidar.dropout_probability", lidar.dropout_probability, "must be in [0, 1]");
   }
 
-  const DiffDriveOptions& base = options.base;
-  RequirePositive("base.radius_m", base.radius_m);
-  RequirePositive("base.max_linear_mps", base.max_linear_mps);
-  RequirePositive("base.max_angular_radps", base.max_angular_radps);
-  RequirePositive("base.max_linear_accel_mps2", base.max_linear_accel_mps2);
-  RequirePositive("base.max_angular_accel_radps2", base.max_angular_accel_radps2);
+  const RobotOptions& robot = options.robot;
+  RequirePositive("robot.radius_m", robot.radius_m);
+  RequirePositive("robot.max_linear_mps", robot.max_linear_mps);
+  RequirePositive("robot.max_angular_radps", robot.max_angular_radps);
+  RequirePositive("robot.max_linear_accel_mps2", robot.max_linear_accel_mps2);
+  RequirePositive("robot.max_angular_accel_radps2", robot.max_angular_accel_radps2);
+  RequireFinite("robot.lidar_mount.x_m", robot.lidar_mount.x_m);
+  RequireFinite("robot.lidar_mount.y_m", robot.lidar_mount.y_m);
+  RequireFinite("robot.lidar_mount.yaw_rad", robot.lidar_mount.yaw_rad);
 
   const OdometryNoiseOptions& noise = options.odometry_noise;
   RequireNonNegative("odometry_noise.alpha1", noise.alpha1);
@@ -114,7 +121,7 @@ Simulator::Simulator(const OccupancyGrid& world_map, const Pose2d& start_in_worl
       world_(world_map),
       lidar_(options.lidar),
       odometry_model_(options.odometry_noise),
-      base_(options.base, start_in_world),
+      base_(options.robot, start_in_world),
       physics_period_us_(PeriodUs("physics_rate_hz", options.physics_rate_hz)),
       odometry_period_us_(PeriodUs("odometry_rate_hz", options.odometry_rate_hz)),
       truth_period_us_(PeriodUs("truth_rate_hz", options.truth_rate_hz)),
@@ -124,10 +131,10 @@ Simulator::Simulator(const OccupancyGrid& world_map, const Pose2d& start_in_worl
       lidar_rng_(MakeStream(options.seed, kLidarStream)),
       odometry_rng_(MakeStream(options.seed, kOdometryStream)),
       true_pose_at_last_odometry_(start_in_world) {
-  if (world_.CircleCollides({start_in_world.x_m, start_in_world.y_m}, options.base.radius_m)) {
+  if (world_.CircleCollides({start_in_world.x_m, start_in_world.y_m}, options.robot.radius_m)) {
     std::ostringstream message;
     message << "Simulator: start pose " << start_in_world
-            << " with base.radius_m = " << options.base.radius_m
+            << " with robot.radius_m = " << options.robot.radius_m
             << " overlaps a wall, unknown space or the map edge";
     throw std::invalid_argument(message.str());
   }
@@ -161,7 +168,7 @@ SimStepOutput Simulator::Step() {
     status_.in_collision = true;
   } else if (status_.in_collision &&
              !world_.CircleCollides({pose.x_m, pose.y_m},
-                                    options_.base.radius_m + kContactReleaseMarginM)) {
+                                    options_.robot.radius_m + kContactReleaseMarginM)) {
     status_.in_collision = false;
   }
 
@@ -185,7 +192,10 @@ SimStepOutput Simulator::Step() {
         StampedPose{utime_, pose, base_.velocity().linear_mps, base_.velocity().angular_radps};
   }
   if (utime_ % lidar_period_us_ == 0) {
-    out.scan = lidar_.Scan(world_, pose, utime_, status_.scans_published, lidar_rng_);
+    // Cast from base ⊕ mount: bit for bit the base pose when the mount is zero (pose2d_test).
+    const Pose2d& mount = options_.robot.lidar_mount;
+    out.scan = lidar_.Scan(world_, pose * mount, utime_, status_.scans_published, lidar_rng_);
+    out.scan->sensor_pose = mount;
     ++status_.scans_published;
   }
   if (utime_ % status_period_us_ == 0) out.status = status();

@@ -66,8 +66,8 @@ class Simulator {
   // noise model to the true motion since the previous odometry sample and
   // integrates it into the odom pose (identity at t = 0); its velocities are
   // those implied by that noisy delta over the odometry period (what wheel
-  // encoders measure), truth carries the true velocities. Scans are taken
-  // from the true pose (sensor at the base centre).
+  // encoders measure), truth carries the true velocities. Scans are cast from
+  // the true pose ⊕ robot.lidar_mount and carry the mount as sensor_pose.
   SimStepOutput Step();
 
   int64_t utime() const { return utime_; }

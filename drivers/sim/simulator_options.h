@@ -6,26 +6,20 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/robot_config.h"
+
 namespace aslam {
 
 struct LidarOptions {
   int num_beams = 720;
   double rate_hz = 10.0;
-  double angle_min_rad = -M_PI;       // first beam, sensor frame
-  double fov_rad = 2.0 * M_PI;        // beams spread over [angle_min, angle_min + fov)
+  double angle_min_rad = -M_PI;  // first beam, sensor frame
+  double fov_rad = 2.0 * M_PI;   // beams spread over [angle_min, angle_min + fov)
   double range_min_m = 0.15;
   double range_max_m = 12.0;
-  double noise_sigma_m = 0.01;        // range noise sigma = noise_sigma_m + noise_sigma_fraction * range
+  double noise_sigma_m = 0.01;  // range noise sigma = noise_sigma_m + noise_sigma_fraction * range
   double noise_sigma_fraction = 0.005;
   double dropout_probability = 0.01;  // chance that a beam with a return reports none
-};
-
-struct DiffDriveOptions {
-  double radius_m = 0.20;
-  double max_linear_mps = 0.5;
-  double max_angular_radps = 1.8;
-  double max_linear_accel_mps2 = 1.0;
-  double max_angular_accel_radps2 = 3.0;
 };
 
 // Probabilistic Robotics (Thrun et al.) odometry motion model, table 5.6:
@@ -45,9 +39,10 @@ struct SimulatorOptions {
   double odometry_rate_hz = 50.0;
   double truth_rate_hz = 50.0;
   double status_rate_hz = 1.0;
-  double command_timeout_s = 0.5;     // older commands stop the robot
+  double command_timeout_s = 0.5;  // older commands stop the robot
   LidarOptions lidar;
-  DiffDriveOptions base;
+  // The simulated base's radius and limits and the lidar's mount are the robot's.
+  RobotOptions robot;
   OdometryNoiseOptions odometry_noise;
 };
 

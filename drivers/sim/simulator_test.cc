@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace aslam {
 namespace {
@@ -53,8 +54,11 @@ TEST(SimulatorTest, RejectsRatesThatDoNotDivideThePhysicsRate) {
   options.physics_rate_hz = 300.0;  // 3333.3 us
   ExpectRejected(options, "physics_rate_hz");
   options = {};
-  options.base.radius_m = -0.1;
-  ExpectRejected(options, "base.radius_m");
+  options.robot.radius_m = -0.1;
+  ExpectRejected(options, "robot.radius_m");
+  options = {};
+  options.robot.lidar_mount.yaw_rad = NAN;
+  ExpectRejected(options, "robot.lidar_mount.yaw_rad");
   options = {};
   options.lidar.dropout_probability = 1.5;
   ExpectRejected(options, "lidar.dropout_probability");
@@ -165,7 +169,7 @@ TEST(SimulatorTest, CollisionsCountOncePerContact) {
   drive(0.5, 600);  // reaches the wall after ~3.7 s and keeps pushing
   EXPECT_EQ(sim.collisions(), 1);
   EXPECT_TRUE(sim.in_collision());
-  EXPECT_NEAR(10.0 - sim.true_pose().x_m, options.base.radius_m, 0.01);
+  EXPECT_NEAR(10.0 - sim.true_pose().x_m, options.robot.radius_m, 0.01);
   EXPECT_EQ(sim.true_velocity().linear_mps, 0.0);
   EXPECT_TRUE(sim.status().in_collision);
 
@@ -293,6 +297,58 @@ TEST(SimulatorTest, TruthAndScanFollowTheTruePose) {
   // Beam 540 looks along +y: 6 m to the top wall at y = 8.
   EXPECT_NEAR(out.scan->range_m[540], 6.0, 1e-5);
   EXPECT_EQ(sim.world().map().width_cells(), 202);
+}
+
+SimulatorOptions NoiselessLidar() {
+  SimulatorOptions options;
+  options.lidar.noise_sigma_m = 0.0;
+  options.lidar.noise_sigma_fraction = 0.0;
+  options.lidar.dropout_probability = 0.0;
+  return options;
+}
+
+// The noiseless ranges a lidar at `sensor_in_world` reads, as a scan stores them.
+std::vector<float> ExpectedRanges(const Simulator& sim, const Pose2d& sensor_in_world) {
+  const LidarModel lidar(sim.options().lidar);
+  std::vector<float> ranges;
+  for (double range : lidar.ExactRanges(sim.world(), sensor_in_world)) {
+    ranges.push_back(range <= lidar.options().range_max_m ? static_cast<float>(range) : 0.0f);
+  }
+  return ranges;
+}
+
+TEST(SimulatorTest, ScansAreCastFromTheLidarMount) {
+  SimulatorOptions options = NoiselessLidar();
+  options.robot.lidar_mount = {0.1, 0.0, M_PI / 2.0};  // 10 cm ahead, looking left
+  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+  SimStepOutput out;
+  for (int i = 0; i < 10; ++i) out = sim.Step();
+  ASSERT_TRUE(out.scan);
+  EXPECT_EQ(out.scan->sensor_pose.x_m, 0.1);
+  EXPECT_EQ(out.scan->sensor_pose.y_m, 0.0);
+  EXPECT_EQ(out.scan->sensor_pose.yaw_rad, M_PI / 2.0);
+  // Beam 360 looks along the sensor's +x, world +y from (2.1, 2): the top wall at y = 8.
+  EXPECT_NEAR(out.scan->range_m[360], 6.0, 1e-5);
+  // Beam 540 looks along the sensor's +y, world -x: the left wall face at x = 0.
+  EXPECT_NEAR(out.scan->range_m[540], 2.1, 1e-5);
+  EXPECT_EQ(out.scan->range_m, ExpectedRanges(sim, sim.true_pose() * options.robot.lidar_mount));
+}
+
+// The default mount is the base centre: scans are cast from the true pose
+// itself, bit for bit, while the robot turns through +-pi.
+TEST(SimulatorTest, ZeroMountCastsFromTheBasePoseBitForBit) {
+  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, NoiselessLidar());
+  int scans = 0;
+  for (int i = 0; i < 1500; ++i) {
+    sim.SetCommand(Command(sim, 0.1, 1.5));
+    const SimStepOutput out = sim.Step();
+    if (!out.scan) continue;
+    ++scans;
+    EXPECT_EQ(out.scan->sensor_pose.x_m, 0.0);
+    EXPECT_EQ(out.scan->sensor_pose.yaw_rad, 0.0);
+    ASSERT_EQ(out.scan->range_m, ExpectedRanges(sim, sim.true_pose())) << "scan " << scans;
+  }
+  EXPECT_EQ(scans, 150);
 }
 
 }  // namespace
