@@ -1,9 +1,6 @@
 #include "eval/explore_process.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -27,17 +24,18 @@
 #include "aslam/sim_status_t.hpp"
 #include "common/channels.h"
 #include "common/lcm_util.h"
+#include "common/subprocess.h"
 #include "common/types_lcm.h"
+#include "common/world_file.h"
 #include "drivers/sim/sim_config.h"
 #include "eval/run_listener.h"
 #include "eval/run_outputs.h"
+#include "eval/trajectory_metrics.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_lcm.h"
 #include "navigation/nav_config.h"
 #include "slam/slam_config.h"
-#include "eval/trajectory_metrics.h"
 #include "utility/utility_config.h"
-#include "common/world_file.h"
 
 #ifndef ASLAM_SOURCE_DIR
 #define ASLAM_SOURCE_DIR "."
@@ -49,8 +47,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 std::string Number(double value) {
   char buffer[40];
@@ -58,17 +57,22 @@ std::string Number(double value) {
   return buffer;
 }
 
-std::string Absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+std::string Absolute(const std::string& path) {
+  return fs::absolute(path).lexically_normal().string();
+}
 
 // The config the nodes read: the given one (or none) with utility.method set.
-std::string WriteNodeConfig(const std::string& config_file, const std::string& method, const std::string& out_dir) {
-  YAML::Node root = config_file.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::LoadFile(config_file);
+std::string WriteNodeConfig(const std::string& config_file, const std::string& method,
+                            const std::string& out_dir) {
+  YAML::Node root =
+      config_file.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::LoadFile(config_file);
   if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
   root["utility"]["method"] = method;
   const std::string path = out_dir + "/config.yaml";
   std::ofstream out(path);
-  out << "# written by aslam explore from " << (config_file.empty() ? "built-in defaults" : config_file)
-      << ", utility.method set to " << method << "\n"
+  out << "# written by aslam explore from "
+      << (config_file.empty() ? "built-in defaults" : config_file) << ", utility.method set to "
+      << method << "\n"
       << root << "\n";
   if (!out) throw std::runtime_error("cannot write " + path);
   return path;
@@ -77,8 +81,10 @@ std::string WriteNodeConfig(const std::string& config_file, const std::string& m
 // A --start other than the world's: OUT/world.yaml, the world's (or a bare
 // map's) with that start and the map by absolute path. The launch config
 // passes no --start (procman's --vars is comma-separated, a pose is X,Y,YAW).
-std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start, const std::string& out_dir) {
-  YAML::Node root = world.world_yaml_path.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::LoadFile(world.world_yaml_path);
+std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start,
+                                const std::string& out_dir) {
+  YAML::Node root = world.world_yaml_path.empty() ? YAML::Node(YAML::NodeType::Map)
+                                                  : YAML::LoadFile(world.world_yaml_path);
   if (world.world_yaml_path.empty()) root["name"] = fs::path(world.map_yaml_path).stem().string();
   root["map"] = Absolute(world.map_yaml_path);
   YAML::Node pose(YAML::NodeType::Map);
@@ -89,7 +95,8 @@ std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start, con
   root["start"] = pose;
   const std::string path = out_dir + "/world.yaml";
   std::ofstream out(path);
-  out << "# written by aslam explore: " << (world.world_yaml_path.empty() ? world.map_yaml_path : world.world_yaml_path)
+  out << "# written by aslam explore: "
+      << (world.world_yaml_path.empty() ? world.map_yaml_path : world.world_yaml_path)
       << " with its --start\n"
       << root << "\n";
   out.close();
@@ -98,62 +105,13 @@ std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start, con
   return path;
 }
 
-// Forks and execs the deputy, its output into OUT/procman.log. The deputy gets
-// its own process group (a terminal's Ctrl-C reaches only this runner, which
-// stops it in order) and SIGTERM should this runner die first.
-pid_t SpawnDeputy(const std::vector<std::string>& argv, const std::string& log_path) {
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log_fd < 0) throw std::runtime_error("cannot write " + log_path + ": " + std::strerror(errno));
-  const pid_t parent = getpid();
-  int exec_pipe[2];
-  if (pipe2(exec_pipe, O_CLOEXEC) != 0) {
-    close(log_fd);
-    throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  }
-  const pid_t pid = fork();
-  if (pid < 0) {
-    close(log_fd);
-    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  }
-  if (pid == 0) {
-    prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (getppid() != parent) _exit(127);
-    setpgid(0, 0);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
-    const int null_fd = open("/dev/null", O_RDONLY);
-    if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
-    dup2(log_fd, STDOUT_FILENO);
-    dup2(log_fd, STDERR_FILENO);
-    // Nothing of the runner's (its LCM sockets) leaks into procman's children.
-    for (int fd = 3; fd < 1024; ++fd) {
-      if (fd != exec_pipe[1]) close(fd);
-    }
-    execv(args[0], args.data());
-    const int e = errno;
-    (void)!write(exec_pipe[1], &e, sizeof e);
-    _exit(127);
-  }
-  close(log_fd);
-  close(exec_pipe[1]);
-  int child_errno = 0;
-  const ssize_t n = read(exec_pipe[0], &child_errno, sizeof child_errno);
-  close(exec_pipe[0]);
-  if (n == static_cast<ssize_t>(sizeof child_errno)) {
-    waitpid(pid, nullptr, 0);
-    throw std::runtime_error("cannot run " + argv[0] + ": " + std::strerror(child_errno));
-  }
-  return pid;
-}
-
 }  // namespace
 
 std::string PrivateLcmUrl(int pid) {
-  // SLAM_MAP spans many datagrams: ask for a 4 MiB receive buffer (the kernel caps it at net.core.rmem_max).
-  return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) + "?ttl=0&recv_buf_size=4194304";
+  // SLAM_MAP spans many datagrams: ask for a 4 MiB receive buffer (the kernel caps it at
+  // net.core.rmem_max).
+  return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) +
+         "?ttl=0&recv_buf_size=4194304";
 }
 
 std::string AddModeToMetricsJson(const std::string& json, const std::string& mode) {
@@ -166,7 +124,8 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
                                 const std::function<void(const ExploreProgress&)>& on_progress) {
   const ExploreOptions& ex = options.explore;
   const auto method = ParseUtilityMethod(ex.method);
-  if (!method) throw std::invalid_argument("--method '" + ex.method + "': expected fd, ags or ours");
+  if (!method)
+    throw std::invalid_argument("--method '" + ex.method + "': expected fd, ags or ours");
   if (!(ex.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
   if (!(options.rate >= 0)) throw std::invalid_argument("--rate must be >= 0");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
@@ -194,8 +153,9 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   }
   build = Absolute(build);
   const std::string procman = build + "/procman/aslam-procman";
-  const std::string launch =
-      options.launch_file.empty() ? std::string(ASLAM_SOURCE_DIR) + "/config/launch/explore.yaml" : options.launch_file;
+  const std::string launch = options.launch_file.empty()
+                                 ? std::string(ASLAM_SOURCE_DIR) + "/config/launch/explore.yaml"
+                                 : options.launch_file;
   const std::string url = options.lcm_url.empty() ? PrivateLcmUrl(getpid()) : options.lcm_url;
 
   const std::vector<std::pair<std::string, std::string>> vars = {
@@ -220,18 +180,15 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   RunListener listener(*lcm, world.map.grid);
 
   const Clock::time_point wall_start = Clock::now();
-  pid_t deputy = SpawnDeputy({procman, "deputy", "--config", launch, "--log-dir", out, "--lcm-url", url, "--vars",
-                              vars_text, "--exit-when", "sim"},
-                             out + "/procman.log");
-  int deputy_status = 0;
-  auto deputy_alive = [&] {
-    if (deputy <= 0) return false;
-    if (waitpid(deputy, &deputy_status, WNOHANG) == deputy) {
-      deputy = -1;
-      return false;
-    }
-    return true;
-  };
+  SubprocessOptions spawn;
+  spawn.argv = {procman,     "deputy", "--config", launch,    "--log-dir",   out,
+                "--lcm-url", url,      "--vars",   vars_text, "--exit-when", "sim"};
+  spawn.output_path = out + "/procman.log";
+  // Its own group: a terminal's Ctrl-C reaches only this runner, which stops the deputy in
+  // order; SIGTERM to it should this runner die first.
+  spawn.own_process_group = true;
+  spawn.parent_death_signal = SIGTERM;
+  Subprocess deputy = Subprocess::Spawn(spawn);
 
   ExploreResult result;
   const int64_t end_us = std::llround(ex.duration_s * 1e6);
@@ -261,41 +218,33 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
       interrupted = true;
       break;
     }
-    if (!deputy_alive()) {
+    if (deputy.Poll() || !deputy.running()) {
       deputy_ended = true;
       break;
     }
     if (!listener.heard_sim() && Since(wall_start) > options.startup_timeout_s) {
-      failure = "nothing heard from the simulator on " + url + " within " + Number(options.startup_timeout_s) +
-                " s: see " + out + "/procman.log and " + out + "/sim.log";
+      failure = "nothing heard from the simulator on " + url + " within " +
+                Number(options.startup_timeout_s) + " s: see " + out + "/procman.log and " + out +
+                "/sim.log";
       break;
     }
   }
 
   // Stop the deputy (it stops its processes, lcm-logger last), still listening meanwhile.
-  if (deputy_alive()) {
-    kill(deputy, SIGTERM);
-    const Clock::time_point term = Clock::now();
-    while (deputy_alive()) {
-      lcm->handleTimeout(20);
-      if (Since(term) > options.stop_timeout_s) {
-        kill(deputy, SIGKILL);
-        waitpid(deputy, &deputy_status, 0);
-        deputy = -1;
-        std::fprintf(stderr, "aslam explore: procman did not stop within %.0f s, killed\n", options.stop_timeout_s);
-        break;
-      }
-    }
+  const ExitStatus deputy_status =
+      deputy.Terminate(options.stop_timeout_s, [&] { lcm->handleTimeout(20); });
+  if (deputy.killed_after_grace()) {
+    std::fprintf(stderr, "aslam explore: procman did not stop within %.0f s, killed\n",
+                 options.stop_timeout_s);
   }
   while (lcm->handleTimeout(0) > 0) {
   }
   const double wall_s = Since(wall_start);
   if (!failure.empty()) throw std::runtime_error(failure);
-  const bool deputy_failed = !(WIFEXITED(deputy_status) && WEXITSTATUS(deputy_status) == 0);
-  if (deputy_failed) {
+  if (!deputy_status.success()) {
     std::fprintf(stderr, "aslam explore: aslam-procman %s %d (see %s/procman.log)\n",
-                 WIFEXITED(deputy_status) ? "exited with" : "killed by signal",
-                 WIFEXITED(deputy_status) ? WEXITSTATUS(deputy_status) : WTERMSIG(deputy_status), out.c_str());
+                 deputy_status.exited() ? "exited with" : "killed by signal",
+                 deputy_status.exited() ? deputy_status.code : deputy_status.signal, out.c_str());
   }
 
   if (listener.map()) result.map = *listener.map();

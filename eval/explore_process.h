@@ -20,12 +20,12 @@
 namespace aslam {
 
 struct ExploreProcessOptions {
-  ExploreOptions explore;    // world, start, method, duration, seed, config, progress
-  double rate = 1.0;         // the simulator's real-time factor
-  std::string lcm_url;       // "" = PrivateLcmUrl(getpid())
-  std::string out_dir;       // the run folder: the deputy's log folder (created)
-  std::string launch_file;   // "" = SOURCE/config/launch/explore.yaml
-  std::string build_dir;     // "" = the build folder holding this binary (BUILD/eval/aslam)
+  ExploreOptions explore;           // world, start, method, duration, seed, config, progress
+  double rate = 1.0;                // the simulator's real-time factor
+  std::string lcm_url;              // "" = PrivateLcmUrl(getpid())
+  std::string out_dir;              // the run folder: the deputy's log folder (created)
+  std::string launch_file;          // "" = SOURCE/config/launch/explore.yaml
+  std::string build_dir;            // "" = the build folder holding this binary (BUILD/eval/aslam)
   double startup_timeout_s = 20.0;  // wall seconds to wait for the simulator's first message
   double stop_timeout_s = 15.0;     // wall seconds from SIGTERM to SIGKILL of the deputy
 };
@@ -41,8 +41,9 @@ std::string PrivateLcmUrl(int pid);
 // duration, interrupted or procman-exited (the deputy ended before the
 // duration). Throws std::invalid_argument for bad options, std::runtime_error
 // if procman cannot be started or the simulator is never heard.
-ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std::atomic<bool>* stop = nullptr,
-                                const std::function<void(const ExploreProgress&)>& on_progress = {});
+ExploreResult RunExploreProcess(
+    const ExploreProcessOptions& options, const std::atomic<bool>* stop = nullptr,
+    const std::function<void(const ExploreProgress&)>& on_progress = {});
 
 // Adds `"mode": "process"` (or any mode) to metrics.json's text as its last key.
 std::string AddModeToMetricsJson(const std::string& json, const std::string& mode);

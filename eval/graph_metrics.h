@@ -1,6 +1,6 @@
 #pragma once
 
-// Pose-graph metrics of DESIGN §6 for the paper's Tables I and II: average
+// Pose-graph metrics of docs/architecture.md §6 for the paper's Tables I and II: average
 // degree, algebraic connectivity, normalized tree connectivity and the
 // evolution of the mean edge D-optimality. Pure C++ on value types, no LCM.
 //

@@ -1,7 +1,7 @@
 #pragma once
 
 // What a process-mode run's lcm log (run.lcmlog, written by lcm-logger under
-// procman, DESIGN §4) says about the processes themselves: how much CPU and
+// procman, docs/architecture.md §4) says about the processes themselves: how much CPU and
 // memory each used (PROCMAN_STATUS) and how long aslam-nav took from a
 // LIDAR_SCAN to the CMD_VEL it answered it with. Times are the logger's
 // receive timestamps (wall clock, µs), so they include transport; message

@@ -1,6 +1,6 @@
 #pragma once
 
-// Map quality of DESIGN §6 for the paper's Table I: SSIM and RMSE between the
+// Map quality of docs/architecture.md §6 for the paper's Table I: SSIM and RMSE between the
 // SLAM map and the ground-truth map, both rendered as grey images on the
 // truth's grid. Pure C++, no LCM: the runner and the bench tools feed it
 // decoded grids.

@@ -248,7 +248,7 @@ TEST(CompareMapToTruthTest, BlankMapScoresTheUnknownLuminanceTerm) {
               (2.0 * kUnknownGrey + kC1) / (1.0 + kUnknownGrey * kUnknownGrey + kC1), 1e-9);
 }
 
-// Coverage (DESIGN §6, ComputeMapAgreement): a SLAM map over the left 10 of
+// Coverage (docs/architecture.md §6, ComputeMapAgreement): a SLAM map over the left 10 of
 // 20 free columns, shifted by map_in_world, knows exactly half the free truth.
 TEST(CoverageTest, KnownPartialOverlap) {
   OccupancyGrid truth(20, 10, 0.1, {0.0, 0.0}, OccupancyGrid::kFree);

@@ -14,8 +14,8 @@
 #include "common/channels.h"
 #include "common/inproc_host.h"
 #include "common/types_lcm.h"
-#include "navigation/nav_lcm.h"
 #include "common/world_file.h"
+#include "navigation/nav_lcm.h"
 
 namespace aslam {
 namespace {

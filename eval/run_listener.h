@@ -1,7 +1,7 @@
 #pragma once
 
 // What an exploration runner hears on the bus, in either hosting: the
-// simulator's truth and collisions (for evaluation only: DESIGN §3), the
+// simulator's truth and collisions (for evaluation only: docs/architecture.md §3), the
 // SLAM graph, pose and map, the frontiers, and the utility's status and goal;
 // and what both runners compute from it at the end.
 

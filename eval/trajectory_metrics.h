@@ -1,6 +1,6 @@
 #pragma once
 
-// Evaluation of a SLAM run against ground truth (DESIGN §6): absolute
+// Evaluation of a SLAM run against ground truth (docs/architecture.md §6): absolute
 // trajectory error of keyframe poses against truth samples matched by utime,
 // and how well the SLAM occupancy grid agrees with the true map. Pure C++,
 // no LCM: the bench tool and the replay test feed it decoded values.
@@ -84,10 +84,10 @@ struct MapAgreement {
   double free_precision = 0.0;      // free_truly_free / slam_free_cells (0 if none)
   int64_t truth_free_cells = 0;
   int64_t truth_free_known = 0;     // truly free cells the SLAM map marks known (any value)
-  double coverage = 0.0;            // truth_free_known / truth_free_cells (DESIGN §6)
+  double coverage = 0.0;            // truth_free_known / truth_free_cells (docs/architecture.md §6)
 };
 
-// Coverage alone (DESIGN §6): the share of truly free cells that `slam_map`,
+// Coverage alone (docs/architecture.md §6): the share of truly free cells that `slam_map`,
 // placed in the world by `map_in_world`, marks known. Much cheaper than the
 // whole agreement, for a coverage timeline.
 struct Coverage {

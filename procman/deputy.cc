@@ -2,8 +2,6 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,8 +12,6 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-
-extern char** environ;
 
 namespace aslam {
 namespace {
@@ -31,15 +27,6 @@ std::string CommandLine(const ProcessConfig& config) {
   std::string line = Quote(config.command);
   for (const auto& arg : config.args) line += " " + Quote(arg);
   return line;
-}
-
-std::string DescribeExit(int wait_status) {
-  if (WIFEXITED(wait_status)) return "exit code " + std::to_string(WEXITSTATUS(wait_status));
-  if (WIFSIGNALED(wait_status)) {
-    const int sig = WTERMSIG(wait_status);
-    return "killed by signal " + std::to_string(sig) + " (" + strsignal(sig) + ")";
-  }
-  return "ended";
 }
 
 // utime + stime of `pid` in clock ticks (fields 14 and 15 of /proc/PID/stat); -1 if gone.
@@ -67,14 +54,20 @@ int64_t RssBytes(pid_t pid) {
   return static_cast<int64_t>(resident_pages) * sysconf(_SC_PAGESIZE);
 }
 
-void WriteAll(int fd, const std::string& text) {
+// Appends `text` to the log at `path` (created); 0, or the errno of a log that cannot be
+// opened. A failed write is not worth failing a start for.
+int AppendToLog(const std::string& path, const std::string& text) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) return errno;
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t n = write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // a log line is not worth failing a start for
+    if (n <= 0) break;
     done += static_cast<std::size_t>(n);
   }
+  close(fd);
+  return 0;
 }
 
 }  // namespace
@@ -85,18 +78,12 @@ double SteadyClock::NowS() const {
 
 const char* ProcessStateName(ProcessState state) {
   switch (state) {
-    case ProcessState::kStopped:
-      return "stopped";
-    case ProcessState::kRunning:
-      return "running";
-    case ProcessState::kStopping:
-      return "stopping";
-    case ProcessState::kBackoff:
-      return "backoff";
-    case ProcessState::kFailed:
-      return "failed";
-    case ProcessState::kExited:
-      return "exited";
+    case ProcessState::kStopped: return "stopped";
+    case ProcessState::kRunning: return "running";
+    case ProcessState::kStopping: return "stopping";
+    case ProcessState::kBackoff: return "backoff";
+    case ProcessState::kFailed: return "failed";
+    case ProcessState::kExited: return "exited";
   }
   return "?";
 }
@@ -125,17 +112,6 @@ Deputy::Deputy(LaunchConfig config, DeputyOptions options, const Clock& clock)
   }
 }
 
-Deputy::~Deputy() {
-  for (auto& p : processes_) {
-    if (p.pid <= 0) continue;
-    kill(-p.pid, SIGKILL);
-    kill(p.pid, SIGKILL);
-    int status = 0;
-    while (waitpid(p.pid, &status, 0) < 0 && errno == EINTR) {
-    }
-  }
-}
-
 std::string Deputy::LogPath(const std::string& name) const {
   return options_.log_dir + "/" + name + ".log";
 }
@@ -152,7 +128,7 @@ std::vector<Deputy::Process*> Deputy::InStartOrder() {
 void Deputy::Start() {
   const double now_s = clock_.NowS();
   for (Process* p : InStartOrder()) {
-    if (!p->should_run || p->pid != 0 || p->state == ProcessState::kStopping) continue;
+    if (!p->should_run || p->child.running() || p->state == ProcessState::kStopping) continue;
     if (p->config.start_delay_s > 0.0) {
       p->launch_at_s = now_s + p->config.start_delay_s;
     } else {
@@ -167,132 +143,67 @@ void Deputy::Fail(Process& p, const std::string& reason) {
 
 void Deputy::Launch(Process& p) {
   const double now_s = clock_.NowS();
-  const int log_fd =
-      open(LogPath(p.config.name).c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
-  int exec_pipe[2] = {-1, -1};
-  if (log_fd < 0 || null_fd < 0 || pipe2(exec_pipe, O_CLOEXEC) != 0) {
-    const std::string reason = std::string("cannot start: ") + std::strerror(errno);
-    for (int fd : {log_fd, null_fd}) {
-      if (fd >= 0) close(fd);
+  const std::string log_path = LogPath(p.config.name);
+  const int log_errno =
+      AppendToLog(log_path, "--- aslam-procman: start " + std::to_string(p.starts + 1) + " (run " +
+                                std::to_string(p.run_id) + "): " + p.command_line + "\n");
+  if (log_errno != 0) {
+    p.state = ProcessState::kFailed;
+    p.exit_code = 127;
+    Fail(p, std::string("cannot start: ") + std::strerror(log_errno));
+    return;
+  }
+  SubprocessOptions spawn;
+  spawn.argv = {p.config.command};
+  spawn.argv.insert(spawn.argv.end(), p.config.args.begin(), p.config.args.end());
+  spawn.env = p.config.env;
+  spawn.output_path = log_path;
+  spawn.append_output = true;
+  spawn.own_process_group = true;       // signals reach its children too
+  spawn.parent_death_signal = SIGKILL;  // dies with the deputy, even if the deputy crashes
+  try {
+    p.child = Subprocess::Spawn(spawn);
+  } catch (const SpawnError& e) {
+    AppendToLog(log_path, std::string("--- aslam-procman: ") + e.what() + "\n");
+    if (e.exec_failed()) {  // it was started, and ended at once
+      ++p.starts;
+      p.launch_at_s = -1.0;
+      p.kill_sent = false;
+      p.start_after_stop = false;
     }
-    p.state = ProcessState::kFailed;
+    p.state = ProcessState::kFailed;  // a missing program does not appear by retrying
     p.exit_code = 127;
-    Fail(p, reason);
+    Fail(p, e.what());
     return;
   }
-  WriteAll(log_fd, "--- aslam-procman: start " + std::to_string(p.starts + 1) + " (run " +
-                       std::to_string(p.run_id) + "): " + p.command_line + "\n");
-
-  // Everything the child needs is built here: between fork and exec only
-  // async-signal-safe calls are allowed.
-  std::vector<std::string> env_strings;
-  for (char** e = environ; *e != nullptr; ++e) {
-    const std::string entry(*e);
-    const std::string key = entry.substr(0, entry.find('='));
-    if (!p.config.env.count(key)) env_strings.push_back(entry);
-  }
-  for (const auto& [key, value] : p.config.env) env_strings.push_back(key + "=" + value);
-  std::vector<char*> envp;
-  for (auto& s : env_strings) envp.push_back(s.data());
-  envp.push_back(nullptr);
-  std::vector<std::string> arg_strings = {p.config.command};
-  arg_strings.insert(arg_strings.end(), p.config.args.begin(), p.config.args.end());
-  std::vector<char*> argv;
-  for (auto& s : arg_strings) argv.push_back(s.data());
-  argv.push_back(nullptr);
-
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    setpgid(0, 0);                        // its own group: signals reach its children too
-    prctl(PR_SET_PDEATHSIG, SIGKILL);     // dies with the deputy, even if the deputy crashes
-    if (getppid() != parent) _exit(126);  // the deputy died before prctl took effect
-    sigset_t none;
-    sigemptyset(&none);
-    sigprocmask(SIG_SETMASK, &none, nullptr);
-    for (int sig : {SIGINT, SIGTERM, SIGPIPE, SIGCHLD}) signal(sig, SIG_DFL);
-    dup2(null_fd, STDIN_FILENO);
-    dup2(log_fd, STDOUT_FILENO);
-    dup2(log_fd, STDERR_FILENO);
-    execvpe(argv[0], argv.data(), envp.data());
-    const int exec_errno = errno;
-    (void)!write(exec_pipe[1], &exec_errno, sizeof exec_errno);
-    _exit(127);
-  }
-  close(exec_pipe[1]);
-  close(null_fd);
-  if (pid < 0) {
-    const std::string reason = std::string("fork failed: ") + std::strerror(errno);
-    WriteAll(log_fd, "--- aslam-procman: " + reason + "\n");
-    close(log_fd);
-    close(exec_pipe[0]);
-    p.state = ProcessState::kFailed;
-    p.exit_code = 127;
-    Fail(p, reason);
-    return;
-  }
-  setpgid(pid, pid);  // also here, so no signal to the group can race the child's own call
-  int exec_errno = 0;
-  ssize_t n;
-  do {
-    n = read(exec_pipe[0], &exec_errno, sizeof exec_errno);
-  } while (n < 0 && errno == EINTR);
-  close(exec_pipe[0]);
   ++p.starts;
   p.launch_at_s = -1.0;
   p.kill_sent = false;
   p.start_after_stop = false;
-  if (n == static_cast<ssize_t>(sizeof exec_errno)) {
-    // Pipe data means exec failed; the child has exited already.
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    const std::string reason = "cannot run " + p.config.command + ": " + std::strerror(exec_errno);
-    WriteAll(log_fd, "--- aslam-procman: " + reason + "\n");
-    close(log_fd);
-    p.pid = 0;
-    p.state = ProcessState::kFailed;  // a missing program does not appear by retrying
-    p.exit_code = 127;
-    Fail(p, reason);
-    return;
-  }
-  close(log_fd);
-  p.pid = pid;
   p.state = ProcessState::kRunning;
   p.started_s = now_s;
 }
 
 void Deputy::Stop(Process& p) {
-  if (p.pid <= 0) return;
+  if (!p.child.running()) return;
   if (p.state != ProcessState::kStopping) {
-    kill(-p.pid, SIGTERM);
+    p.child.Signal(SIGTERM);
     p.state = ProcessState::kStopping;
     p.kill_at_s = clock_.NowS() + config_.stop_timeout_s;
     p.kill_sent = false;
   }
 }
 
-void Deputy::OnExit(Process& p, int wait_status) {
-  const pid_t pid = p.pid;
-  p.pid = 0;
-  kill(-pid, SIGKILL);  // whatever it left in its group goes with it
+// Called once p.child has been reaped (its group's leftovers are killed by then).
+void Deputy::OnExit(Process& p, const ExitStatus& status) {
   const bool stopping = p.state == ProcessState::kStopping;
-  p.exit_code = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status)
-                                       : (WIFSIGNALED(wait_status) ? -WTERMSIG(wait_status) : 0);
-  const bool our_term =
-      stopping && !p.kill_sent && WIFSIGNALED(wait_status) && WTERMSIG(wait_status) == SIGTERM;
+  p.exit_code = status.CodeOrMinusSignal();
+  const bool our_term = stopping && !p.kill_sent && status.signal == SIGTERM;
   const bool abnormal = p.exit_code != 0 && !our_term;
   const double now_s = clock_.NowS();
   if (abnormal)
-    Fail(p, DescribeExit(wait_status) + (stopping && p.kill_sent ? " after the stop timeout" : ""));
-  {
-    const int log_fd = open(LogPath(p.config.name).c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-    if (log_fd >= 0) {
-      WriteAll(log_fd, "--- aslam-procman: " + DescribeExit(wait_status) + "\n");
-      close(log_fd);
-    }
-  }
+    Fail(p, status.Describe() + (stopping && p.kill_sent ? " after the stop timeout" : ""));
+  AppendToLog(LogPath(p.config.name), "--- aslam-procman: " + status.Describe() + "\n");
   if (stopping) {
     p.state = ProcessState::kStopped;
     if (p.start_after_stop && p.should_run && !shutting_down_) Launch(p);
@@ -315,12 +226,10 @@ void Deputy::OnExit(Process& p, int wait_status) {
 bool Deputy::Step() {
   bool changed = false;
   if (options_.reap_all_children) {
-    int status = 0;
-    pid_t reaped;
-    while ((reaped = waitpid(-1, &status, WNOHANG)) > 0) {
+    while (const auto reaped = ReapAnyChild()) {
       for (auto& p : processes_) {
-        if (p.pid == reaped) {
-          OnExit(p, status);
+        if (p.child.Claim(*reaped)) {
+          OnExit(p, reaped->status);
           changed = true;
           break;
         }
@@ -328,15 +237,12 @@ bool Deputy::Step() {
     }
   }
   for (auto& p : processes_) {
-    if (p.pid <= 0) continue;
-    int status = 0;
-    const pid_t reaped = waitpid(p.pid, &status, WNOHANG);
-    if (reaped == p.pid) {
-      OnExit(p, status);
+    if (!p.child.running()) continue;
+    if (const auto status = p.child.Poll()) {
+      OnExit(p, *status);
       changed = true;
-    } else if (reaped < 0 && errno == ECHILD) {
+    } else if (!p.child.running()) {
       // Not our child any more (cannot happen unless someone reaped it): forget it.
-      p.pid = 0;
       p.state = ProcessState::kStopped;
       changed = true;
     }
@@ -344,11 +250,11 @@ bool Deputy::Step() {
   const double now_s = clock_.NowS();
   for (auto& p : processes_) {
     if (p.state == ProcessState::kStopping && !p.kill_sent && now_s >= p.kill_at_s) {
-      kill(-p.pid, SIGKILL);
+      p.child.Signal(SIGKILL);
       p.kill_sent = true;
     }
     if (p.launch_at_s >= 0.0 && now_s >= p.launch_at_s && p.should_run && !shutting_down_ &&
-        p.pid == 0) {
+        !p.child.running()) {
       Launch(p);
       changed = true;
     }
@@ -452,7 +358,7 @@ void Deputy::StopNextTier() {
 
 bool Deputy::Finished() const {
   return shutting_down_ && std::all_of(processes_.begin(), processes_.end(),
-                                       [](const Process& p) { return p.pid <= 0; });
+                                       [](const Process& p) { return !p.child.running(); });
 }
 
 DeputyStatus Deputy::Status() {
@@ -468,17 +374,18 @@ DeputyStatus Deputy::Status() {
     s.command_line = p.command_line;
     s.should_run = p.should_run;
     s.state = p.state;
-    s.pid = static_cast<int>(p.pid);
+    const pid_t pid = p.child.running() ? p.child.pid() : 0;
+    s.pid = static_cast<int>(pid);
     s.exit_code = p.exit_code;
     s.restarts = std::max(0, p.starts - 1);
     s.run_id = p.run_id;
-    if (p.pid > 0) {
+    if (pid > 0) {
       s.uptime_s = now_s - p.started_s;
-      s.rss_bytes = RssBytes(p.pid);
-      const long long ticks = CpuTicks(p.pid);
-      if (p.sampled_pid != p.pid || ticks < 0) {
+      s.rss_bytes = RssBytes(pid);
+      const long long ticks = CpuTicks(pid);
+      if (p.sampled_pid != pid || ticks < 0) {
         p.cpu_percent = 0.0;
-        p.sampled_pid = p.pid;
+        p.sampled_pid = pid;
         p.sampled_ticks = std::max(0LL, ticks);
         p.sampled_s = now_s;
       } else if (now_s - p.sampled_s >= 0.1) {  // shorter windows say nothing at 100 ticks/s

@@ -2,19 +2,18 @@
 
 // The deputy: starts the processes of a launch config, supervises them and
 // applies the sheriff's orders. No LCM here: the caller drives it by calling
-// Step() often (it reaps with waitpid(WNOHANG), never blocks), feeds it orders
-// and publishes Status(); time comes from an injected Clock so tests can hold
-// or advance it.
+// Step() often (it reaps without blocking), feeds it orders and publishes
+// Status(); time comes from an injected Clock so tests can hold or advance it.
 //
-// Each child is its own process group (signals go to the whole group) and gets
-// PR_SET_PDEATHSIG(SIGKILL), so it dies with the deputy even on a crash; its
-// stdout and stderr are appended to LOG_DIR/NAME.log.
-
-#include <sys/types.h>
+// Children start through common/subprocess.h: each is its own process group
+// (signals go to the whole group) and gets PR_SET_PDEATHSIG(SIGKILL), so it dies
+// with the deputy even on a crash; its stdout and stderr are appended to
+// LOG_DIR/NAME.log.
 
 #include <string>
 #include <vector>
 
+#include "common/subprocess.h"
 #include "procman/launch_config.h"
 #include "procman/process_status.h"
 
@@ -46,8 +45,9 @@ class Deputy {
   // Throws std::invalid_argument for an exit_when naming no process, std::runtime_error
   // if the log folder cannot be created.
   Deputy(LaunchConfig config, DeputyOptions options, const Clock& clock);
-  // Kills (SIGKILL) and reaps whatever still runs: no orphans even on an error path.
-  ~Deputy();
+  // Kills (SIGKILL) and reaps whatever still runs (each Subprocess does): no orphans even
+  // on an error path.
+  ~Deputy() = default;
   Deputy(const Deputy&) = delete;
   Deputy& operator=(const Deputy&) = delete;
 
@@ -85,7 +85,7 @@ class Deputy {
     bool should_run = false;
     int run_id = 0;
     ProcessState state = ProcessState::kStopped;
-    pid_t pid = 0;
+    Subprocess child;  // running() while started and not yet reaped
     int exit_code = 0;
     int starts = 0;
     int consecutive_failures = 0;
@@ -104,7 +104,7 @@ class Deputy {
 
   void Launch(Process& p);
   void Stop(Process& p);
-  void OnExit(Process& p, int wait_status);
+  void OnExit(Process& p, const ExitStatus& status);
   void Fail(Process& p, const std::string& reason);
   void StopNextTier();
   std::vector<Process*> InStartOrder();

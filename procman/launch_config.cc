@@ -129,12 +129,9 @@ LaunchConfig Load(const ConfigReader& top, const YAML::Node& raw_root,
 
 const char* RestartPolicyName(RestartPolicy policy) {
   switch (policy) {
-    case RestartPolicy::kNever:
-      return "never";
-    case RestartPolicy::kOnFailure:
-      return "on-failure";
-    case RestartPolicy::kAlways:
-      return "always";
+    case RestartPolicy::kNever: return "never";
+    case RestartPolicy::kOnFailure: return "on-failure";
+    case RestartPolicy::kAlways: return "always";
   }
   return "?";
 }

@@ -7,14 +7,10 @@ namespace {
 
 int8_t StateToLcm(ProcessState state) {
   switch (state) {
-    case ProcessState::kRunning:
-      return procman_process_status_t::STATE_RUNNING;
-    case ProcessState::kStopping:
-      return procman_process_status_t::STATE_STOPPING;
-    case ProcessState::kBackoff:
-      return procman_process_status_t::STATE_BACKOFF;
-    case ProcessState::kFailed:
-      return procman_process_status_t::STATE_FAILED;
+    case ProcessState::kRunning: return procman_process_status_t::STATE_RUNNING;
+    case ProcessState::kStopping: return procman_process_status_t::STATE_STOPPING;
+    case ProcessState::kBackoff: return procman_process_status_t::STATE_BACKOFF;
+    case ProcessState::kFailed: return procman_process_status_t::STATE_FAILED;
     case ProcessState::kStopped:
     case ProcessState::kExited:  // the message has no "exited": stopped while should_run says it
       return procman_process_status_t::STATE_STOPPED;
@@ -24,23 +20,12 @@ int8_t StateToLcm(ProcessState state) {
 
 bool StateFromLcm(int8_t state, ProcessState* out) {
   switch (state) {
-    case procman_process_status_t::STATE_STOPPED:
-      *out = ProcessState::kStopped;
-      return true;
-    case procman_process_status_t::STATE_RUNNING:
-      *out = ProcessState::kRunning;
-      return true;
-    case procman_process_status_t::STATE_BACKOFF:
-      *out = ProcessState::kBackoff;
-      return true;
-    case procman_process_status_t::STATE_FAILED:
-      *out = ProcessState::kFailed;
-      return true;
-    case procman_process_status_t::STATE_STOPPING:
-      *out = ProcessState::kStopping;
-      return true;
-    default:
-      return false;
+    case procman_process_status_t::STATE_STOPPED: *out = ProcessState::kStopped; return true;
+    case procman_process_status_t::STATE_RUNNING: *out = ProcessState::kRunning; return true;
+    case procman_process_status_t::STATE_BACKOFF: *out = ProcessState::kBackoff; return true;
+    case procman_process_status_t::STATE_FAILED: *out = ProcessState::kFailed; return true;
+    case procman_process_status_t::STATE_STOPPING: *out = ProcessState::kStopping; return true;
+    default: return false;
   }
 }
 

@@ -41,9 +41,7 @@ DeputyOrders ComputeOrders(const DeputyStatus& status, SheriffCommand command,
           order.should_run = true;
           if (!running) ++order.run_id;
           break;
-        case SheriffCommand::kStop:
-          order.should_run = false;
-          break;
+        case SheriffCommand::kStop: order.should_run = false; break;
         case SheriffCommand::kRestart:
           order.should_run = true;
           ++order.run_id;

@@ -1,0 +1,322 @@
+#include "eval/aslam_commands.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gflags/gflags.h>
+
+#include "common/flags.h"
+#include "common/pose2d.h"
+#include "eval/bench.h"
+#include "eval/explore_process.h"
+#include "eval/explore_runner.h"
+#include "eval/log_stats.h"
+#include "eval/run_outputs.h"
+
+DEFINE_string(world, "", "world folder (map.yaml + world.yaml) or a map_server MAP.yaml");
+DEFINE_string(start, "", "start pose X,Y,YAW in the world frame (m, m, rad); default: the world's");
+DEFINE_string(method, "ours", "goal selection: fd | ags | ours");
+DEFINE_double(duration, 1800.0,
+              "simulated seconds at most (the run also ends when exploration is done)");
+DEFINE_int64(seed, 1, "simulator seed: the same seed gives the same run");
+DEFINE_bool(inproc, false, "every node in this process on memq://, as fast as the CPU allows");
+DEFINE_double(rate, 1.0,
+              "real-time factor of process mode (--inproc always runs as fast as it can)");
+DEFINE_string(config, "", "config file (config/aslam.yaml layout); default: built-in defaults");
+DEFINE_string(out, "", "run folder to write (created)");
+DEFINE_string(lcm_url, "",
+              "process mode: LCM URL of the run (default: "
+              "udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304, PORT from the pid)");
+DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
+DEFINE_string(worlds, "office,campus",
+              "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
+DEFINE_string(methods, "fd,ags,ours", "bench: comma-separated methods");
+DEFINE_int32(seeds, 15, "bench: seeds 1..N per world and method");
+DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
+DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
+DEFINE_bool(report_only, false,
+            "bench: run nothing; write the tables and figures of the runs already finished");
+
+namespace aslam {
+namespace {
+
+constexpr const char* kUsage =
+    "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
+    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR\n"
+    "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
+    "            [--start X,Y,YAW] [--config FILE] [--noplots] [--report_only] --out DIR\n"
+    "aslam log-stats RUN/run.lcmlog";
+
+std::atomic<bool> g_stop{false};
+
+void OnSignal(int) {
+  g_stop = true;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends at once
+}
+
+// --start into `start` (left empty without the flag); false after printing why it is malformed.
+bool ParseStartFlag(const char* command, std::optional<Pose2d>* start) {
+  if (FLAGS_start.empty()) return true;
+  *start = ParsePose(FLAGS_start);
+  if (*start) return true;
+  std::fprintf(stderr, "aslam %s: --start '%s': expected X,Y,YAW\n", command, FLAGS_start.c_str());
+  return false;
+}
+
+void PrintWritten(const std::string& dir, const std::vector<std::string>& files,
+                  const char* suffix) {
+  std::printf("wrote %s/{", dir.c_str());
+  for (std::size_t i = 0; i < files.size(); ++i)
+    std::printf("%s%s", i ? "," : "", files[i].c_str());
+  std::printf("}%s\n", suffix);
+}
+
+void PrintProgress(const ExploreProgress& p, bool terminal) {
+  char goal[64] = "none";
+  if (p.goal_id >= 0)
+    std::snprintf(goal, sizeof goal, "#%lld (%.1f, %.1f)", static_cast<long long>(p.goal_id),
+                  p.goal_m.x_m, p.goal_m.y_m);
+  std::printf(
+      "%st=%7.1f s  coverage %5.1f %%  keyframes %5d  closures %4d  frontiers %3d  goal %-18s  "
+      "reached %3d failed %3d  collisions %lld  %6.1fx real time  %s%s",
+      terminal ? "\r" : "", p.sim_s, 100.0 * p.coverage, p.keyframes, p.loop_closures, p.frontiers,
+      goal, p.goals_reached, p.goals_failed, static_cast<long long>(p.collisions),
+      p.wall_s > 0 ? p.sim_s / p.wall_s : 0.0, p.state.c_str(), terminal ? "\033[K" : "\n");
+  std::fflush(stdout);
+}
+
+int Explore() {
+  if (FLAGS_world.empty() || FLAGS_out.empty()) {
+    std::fprintf(stderr, "aslam explore: --world and --out are required\nusage: %s\n", kUsage);
+    return 2;
+  }
+  if (FLAGS_seed < 0 || FLAGS_rate < 0 || !(FLAGS_duration > 0)) {
+    std::fprintf(stderr, "aslam explore: --seed and --rate must be >= 0, --duration > 0\n");
+    return 2;
+  }
+  ExploreOptions options;
+  options.world = FLAGS_world;
+  options.method = FLAGS_method;
+  options.duration_s = FLAGS_duration;
+  options.seed = static_cast<uint64_t>(FLAGS_seed);
+  options.config_file = FLAGS_config;
+  options.progress_period_s = FLAGS_progress;
+  if (!ParseStartFlag("explore", &options.start)) return 2;
+  const bool terminal = isatty(STDOUT_FILENO) != 0;
+  try {
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    const auto on_progress = [&](const ExploreProgress& p) {
+      if (FLAGS_progress > 0) PrintProgress(p, terminal);
+    };
+    ExploreResult result;
+    if (FLAGS_inproc) {
+      std::printf("aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, in-process\n",
+                  FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
+                  FLAGS_duration);
+      std::fflush(stdout);
+      result = RunExploreInProcess(options, &g_stop, on_progress);
+    } else {
+      ExploreProcessOptions process;
+      process.explore = options;
+      process.rate = FLAGS_rate;
+      process.lcm_url = FLAGS_lcm_url.empty() ? PrivateLcmUrl(getpid()) : FLAGS_lcm_url;
+      process.out_dir = FLAGS_out;
+      std::printf(
+          "aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, processes at %gx "
+          "real time on %s (logs in %s)\n",
+          FLAGS_world.c_str(), FLAGS_method.c_str(), static_cast<long long>(FLAGS_seed),
+          FLAGS_duration, FLAGS_rate, process.lcm_url.c_str(), FLAGS_out.c_str());
+      std::fflush(stdout);
+      result = RunExploreProcess(process, &g_stop, on_progress);
+    }
+    if (terminal && FLAGS_progress > 0) std::printf("\n");
+    WriteRunFolder(result, FLAGS_out);
+    if (!FLAGS_inproc) {
+      // metrics.json says which mode made it.
+      const std::string path = FLAGS_out + "/metrics.json";
+      std::ofstream(path, std::ios::binary | std::ios::trunc)
+          << AddModeToMetricsJson(MetricsToJson(result.metrics), "process");
+      // CPU per process and scan-to-command latency, from the run's own log.
+      try {
+        const LogStats stats = ComputeLogStats(FLAGS_out + "/run.lcmlog");
+        std::ofstream(FLAGS_out + "/process_stats.json", std::ios::binary | std::ios::trunc)
+            << LogStatsJson(stats);
+        std::printf("%s", LogStatsTable(stats).c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "aslam explore: no process figures: %s\n", e.what());
+      }
+    }
+    const RunMetrics& m = result.metrics;
+    std::printf(
+        "aslam explore: %s after %.1f s simulated (%.1f s wall): coverage %.1f %%, ATE RMSE "
+        "%.3f m, %d keyframes, %d loop closures, %lld collisions, goals %d reached %d failed\n",
+        m.end_reason.c_str(), m.sim_seconds, m.wall_seconds, 100.0 * m.coverage, m.ate_rmse_m,
+        m.keyframes, m.loop_closures, static_cast<long long>(m.collisions), m.goals_reached,
+        m.goals_failed);
+    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s}\n",
+                FLAGS_out.c_str(),
+                FLAGS_inproc ? "" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log");
+    if (m.end_reason == "procman-exited") {
+      std::fprintf(stderr,
+                   "aslam explore: aslam-procman ended before the run did: see %s/procman.log and "
+                   "%s/sim.log\n",
+                   FLAGS_out.c_str(), FLAGS_out.c_str());
+      return 1;
+    }
+    return m.end_reason == "interrupted" ? 130 : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam explore: %s\n", e.what());
+    return 1;
+  }
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+std::string Clock(double seconds) {
+  if (seconds < 0) return "--:--:--";
+  const long s = std::lround(seconds);
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buffer;
+}
+
+void PrintBenchProgress(const BenchProgress& p, bool terminal) {
+  const int done = p.skipped + p.finished + p.failed;
+  constexpr int kWidth = 30;
+  const int filled = p.total > 0 ? done * kWidth / p.total : 0;
+  std::printf("%s[%s%s] %d/%d runs (%d skipped, %d failed, %d running)  elapsed %s  ETA %s%s",
+              terminal ? "\r" : "", std::string(filled, '#').c_str(),
+              std::string(kWidth - filled, '.').c_str(), done, p.total, p.skipped, p.failed,
+              p.running, Clock(p.elapsed_s).c_str(), Clock(p.eta_s).c_str(),
+              terminal ? "\033[K" : "\n");
+  std::fflush(stdout);
+}
+
+int Bench() {
+  BenchOptions options;
+  options.worlds = SplitList(FLAGS_worlds);
+  options.methods = SplitList(FLAGS_methods);
+  options.seeds = FLAGS_seeds;
+  options.duration_s = FLAGS_duration;
+  options.jobs = FLAGS_jobs > 0 ? FLAGS_jobs : std::max(1u, std::thread::hardware_concurrency());
+  options.config_file = FLAGS_config;
+  options.out_dir = FLAGS_out;
+  options.plots = FLAGS_plots;
+  char self[4096];
+  const ssize_t length = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (length <= 0) {
+    std::fprintf(stderr, "aslam bench: cannot find its own executable (/proc/self/exe)\n");
+    return 1;
+  }
+  options.aslam_binary.assign(self, length);
+  if (!ParseStartFlag("bench", &options.start)) return 2;
+  const bool terminal = isatty(STDOUT_FILENO) != 0;
+  try {
+    const std::vector<BenchRun> runs = PlanBench(options);
+    std::printf(
+        "aslam bench: %zu runs (%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %d at "
+        "a time, in %s\n",
+        runs.size(), options.worlds.size(), options.methods.size(), options.seeds,
+        options.duration_s, options.jobs, options.out_dir.c_str());
+    std::fflush(stdout);
+    if (FLAGS_report_only) {
+      const std::vector<std::string> written = WriteBenchReports(options);
+      PrintWritten(options.out_dir, written, " from the finished runs");
+      return 0;
+    }
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    const BenchSummary summary = RunBench(
+        options, &g_stop, [&](const BenchProgress& p) { PrintBenchProgress(p, terminal); });
+    if (terminal) std::printf("\n");
+    std::printf(
+        "aslam bench: %d runs finished now, %d skipped as already finished, %zu failed, in %s "
+        "wall%s\n",
+        summary.finished, summary.skipped, summary.failed.size(),
+        Clock(summary.wall_seconds).c_str(),
+        summary.interrupted ? " (interrupted: rerun the same command to resume)" : "");
+    for (const std::string& dir : summary.failed)
+      std::fprintf(stderr, "aslam bench: run failed: see %s/explore.log\n", dir.c_str());
+    const std::vector<std::string> written = WriteBenchReports(options);
+    PrintWritten(options.out_dir, written, "");
+    if (summary.interrupted) return 130;
+    return summary.failed.empty() ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam bench: %s\n", e.what());
+    return 1;
+  }
+}
+
+int LogStatsCommand(const std::vector<std::string>& paths) {
+  if (paths.size() != 1) {
+    std::fprintf(stderr, "usage: aslam log-stats RUN/run.lcmlog\n");
+    return 2;
+  }
+  try {
+    std::printf("%s", LogStatsTable(ComputeLogStats(paths[0])).c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam log-stats: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace
+
+int RunAslamCommand(int argc, char** argv) {
+  const bool help =
+      argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
+  const std::string command = argc >= 2 ? argv[1] : "";
+  if (command != "explore" && command != "bench" && command != "log-stats") {
+    std::fprintf(help ? stdout : stderr,
+                 "usage: aslam <command> [flags]\n\ncommands:\n"
+                 "  explore     explore a world, write a run folder\n"
+                 "  bench       run the paper's experiment matrix, write its tables and figures\n"
+                 "  log-stats   CPU per process and LIDAR_SCAN -> CMD_VEL latency of a run's lcm "
+                 "log\n\n%s\n",
+                 kUsage);
+    return help ? 0 : 2;
+  }
+  // The subcommand leaves argv; gflags sees `aslam --flags...`.
+  std::vector<char*> args(argv, argv + argc);
+  args.erase(args.begin() + 1);
+  int n = static_cast<int>(args.size());
+  char** v = args.data();
+  ParseFlags(&n, &v, kUsage);
+  if (command == "log-stats") return LogStatsCommand(std::vector<std::string>(v + 1, v + n));
+  if (n > 1) {
+    std::fprintf(stderr, "aslam %s: unexpected argument '%s'\n", command.c_str(), v[1]);
+    return 2;
+  }
+  if (command == "bench") {
+    if (FLAGS_out.empty()) {
+      std::fprintf(stderr, "aslam bench: --out is required\nusage: %s\n", kUsage);
+      return 2;
+    }
+    return Bench();
+  }
+  return Explore();
+}
+
+}  // namespace aslam

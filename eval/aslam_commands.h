@@ -1,0 +1,14 @@
+#pragma once
+
+// The `aslam` command's subcommands, parsed and run: explore (eval/explore_runner.h
+// in-process, eval/explore_process.h as processes, eval/run_outputs.h for the run
+// folder), bench (eval/bench.h) and log-stats (eval/log_stats.h).
+
+namespace aslam {
+
+// `aslam COMMAND [flags]` with main's arguments: prints usage for no or an
+// unknown command, parses the flags, runs the command and returns the exit code
+// (0 ok, 1 failed, 2 bad usage, 130 interrupted).
+int RunAslamCommand(int argc, char** argv);
+
+}  // namespace aslam

@@ -1,0 +1,54 @@
+#pragma once
+
+// `aslam bench`'s report tables from the finished runs (docs/architecture.md §6):
+// runs.csv, Table I (table1.md), Table II (table2.md), coverage.md,
+// comparison.md and the mean curves (curves.csv). Text only; the statistics
+// come from eval/stats.h.
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "eval/bench_runs.h"
+#include "eval/stats.h"
+
+namespace aslam {
+
+// The method the others are compared with: "ours" when it ran, else the last.
+std::string ReferenceMethod(const std::vector<std::string>& methods);
+
+// Per (world, method) and per simulated second: mean ± std of coverage and of
+// mean edge D-optimality over the runs. A run that ended early (done) holds
+// its last value to the end.
+struct CurvePoint {
+  double t_s = 0.0;
+  MeanStd coverage;
+  MeanStd d_opt;
+};
+using BenchCurves = std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>;
+BenchCurves ComputeCurves(const std::vector<RunRecord>& records, double duration_s);
+
+// The reports' text.
+std::string RunsCsv(const std::vector<RunRecord>& records);
+std::string Table1Markdown(const std::vector<RunRecord>& records,
+                           const std::vector<std::string>& worlds,
+                           const std::vector<std::string>& methods);
+std::string Table2Markdown(const std::vector<RunRecord>& records, const BenchCurves& curves,
+                           const std::vector<std::string>& worlds,
+                           const std::vector<std::string>& methods);
+std::string CurvesCsv(const BenchCurves& curves);
+// Coverage % (mean ± std) at 1/6, 1/3, 2/3 and all of the duration (5, 10, 20
+// and 30 min of the paper's 30), and the median time to 90 % coverage over all
+// runs, a run that never reached 90 % counting as later than every run that did.
+std::string CoverageMarkdown(const std::vector<RunRecord>& records, const BenchCurves& curves,
+                             const std::vector<std::string>& worlds,
+                             const std::vector<std::string>& methods, double duration_s);
+// Per world and metric: each method's mean (the median for time to 90 %), and
+// the reference method against each other one: relative difference and
+// Mann–Whitney p over the runs.
+std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
+                               const std::vector<std::string>& worlds,
+                               const std::vector<std::string>& methods, double duration_s);
+
+}  // namespace aslam

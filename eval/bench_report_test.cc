@@ -1,0 +1,158 @@
+#include "eval/bench_report.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace aslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+void WriteFile(const std::string& path, const std::string& text) {
+  fs::create_directories(fs::path(path).parent_path());
+  std::ofstream(path) << text;
+}
+
+int CountLines(const std::string& text) {
+  int n = 0;
+  for (const char c : text) n += c == '\n';
+  return n;
+}
+
+std::string TempDir(const std::string& name) {
+  const std::string dir = testing::TempDir() + "/bench_test_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Hand-made runs: the tables' arithmetic and the curves' hold-last rule.
+TEST(BenchReportTest, TablesAndCurvesFromKnownRuns) {
+  const std::string dir = TempDir("tables");
+  std::vector<RunRecord> records;
+  const double coverages[] = {0.5, 0.7};
+  const double reductions[] = {20.0, 30.0};
+  for (int i = 0; i < 2; ++i) {
+    RunRecord r;
+    r.run = {"w", "w", "ours", i + 1, dir + "/ours_" + std::to_string(i)};
+    r.fields = {{"coverage", std::to_string(coverages[i])},
+                {"algebraic_connectivity", i == 0 ? "1.0" : "3.0"},
+                {"d_opt_reduction_percent", std::to_string(reductions[i])},
+                {"ssim", "null"}};
+    records.push_back(r);
+  }
+  // Run 0 ends at 2 s (done): its last value holds for t = 3, 4.
+  WriteFile(records[0].run.dir + "/coverage.csv", "t_s,coverage\n1.000,0.1\n2.000,0.5\n");
+  WriteFile(records[0].run.dir + "/uncertainty.csv", "t_s,mean_edge_d_opt\n1.000,\n2.000,100\n");
+  WriteFile(records[1].run.dir + "/coverage.csv",
+            "t_s,coverage\n1.000,0.3\n2.000,0.4\n3.000,0.6\n4.000,0.7\n");
+  WriteFile(records[1].run.dir + "/uncertainty.csv",
+            "t_s,mean_edge_d_opt\n1.000,60\n2.000,80\n3.000,50\n4.000,40\n");
+
+  const auto curves = ComputeCurves(records, 4.0);
+  const std::vector<CurvePoint>& c = curves.at({"w", "ours"});
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_DOUBLE_EQ(c[0].coverage.mean, 0.2);
+  EXPECT_DOUBLE_EQ(c[3].coverage.mean, 0.6);  // (0.5 held + 0.7) / 2
+  EXPECT_EQ(c[0].d_opt.n, 1);                 // run 0 had no edge yet
+  EXPECT_DOUBLE_EQ(c[0].d_opt.mean, 60.0);
+  EXPECT_DOUBLE_EQ(c[1].d_opt.mean, 90.0);
+  EXPECT_DOUBLE_EQ(c[3].d_opt.mean, 70.0);
+
+  const std::string table1 = Table1Markdown(records, {"w"}, {"fd", "ours"});
+  EXPECT_NE(table1.find("| w | fd | 0 |"), std::string::npos) << table1;
+  EXPECT_NE(table1.find("| w | ours | 2 | 2.000 ± 1.414 |"), std::string::npos) << table1;
+  EXPECT_NE(table1.find("0.600 ± 0.141"), std::string::npos) << table1;  // coverage
+  // Mean curve 60, 90, 75, 70: max 90, min 60, diff 30, %R 33.3; per run 25 ± 7.1.
+  const std::string table2 = Table2Markdown(records, curves, {"w"}, {"ours"});
+  EXPECT_NE(table2.find("| w | ours | 2 | 90.0 & 60.0 | 30.0 | 33.3 | 25.0 ± 7.1 |"),
+            std::string::npos)
+      << table2;
+
+  const std::string csv = RunsCsv(records);
+  EXPECT_EQ(CountLines(csv), 3);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "world_label,run_dir,coverage,algebraic_connectivity,d_opt_reduction_percent,ssim");
+}
+
+// Coverage at a sixth, a third, two thirds and all of the duration, and the
+// median time to 90 % with never-reached runs counted as the latest.
+TEST(BenchReportTest, CoverageTableFromKnownRuns) {
+  const std::string dir = TempDir("coverage");
+  std::vector<RunRecord> records;
+  // (method, seed, time to 90 % or null, coverage series for seconds 1..6)
+  const struct {
+    const char* method;
+    const char* time_to_90;
+    const char* coverage_csv;
+  } runs[] = {
+      {"ours", "3.0", "t_s,coverage\n1,0.2\n2,0.5\n3,0.9\n4,0.9\n5,0.95\n6,0.95\n"},
+      {"ours", "null", "t_s,coverage\n1,0.0\n2,0.3\n3,0.5\n4,0.6\n5,0.7\n6,0.8\n"},
+      {"ours", "5.0",
+       "t_s,coverage\n1,0.1\n2,0.4\n3,0.6\n4,0.7\n5,0.9\n"},  // done at 5 s: holds 0.9
+      {"fd", "4.0", "t_s,coverage\n1,0.5\n2,0.6\n3,0.7\n4,0.9\n5,0.9\n6,0.9\n"},
+      {"fd", "null", "t_s,coverage\n1,0.5\n2,0.6\n3,0.7\n4,0.8\n5,0.8\n6,0.8\n"},
+  };
+  int seed = 0;
+  for (const auto& spec : runs) {
+    RunRecord r;
+    r.run = {"w", "w", spec.method, ++seed, dir + "/run_" + std::to_string(seed)};
+    r.fields = {{"time_to_90_coverage_s", spec.time_to_90}};
+    WriteFile(r.run.dir + "/coverage.csv", spec.coverage_csv);
+    WriteFile(r.run.dir + "/uncertainty.csv", "t_s,mean_edge_d_opt\n");
+    records.push_back(r);
+  }
+  const std::string table =
+      CoverageMarkdown(records, ComputeCurves(records, 6.0), {"w"}, {"fd", "ours"}, 6.0);
+  EXPECT_NE(
+      table.find(
+          "| coverage % at 1 s | coverage % at 2 s | coverage % at 4 s | coverage % at 6 s |"),
+      std::string::npos)
+      << table;
+  // ours at 1, 2, 4, 6 s: means 10, 40, 73.3, 88.3 %; sorted times 3, 5, never: median 5 s.
+  EXPECT_NE(table.find("| w | ours | 3 | 10.0 ± 10.0 | 40.0 ± 10.0 | 73.3 ± 15.3 | 88.3 ± 7.6 | 5 "
+                       "s (2/3 reached) |"),
+            std::string::npos)
+      << table;
+  // fd: times 4 and never; the median lies past the end.
+  EXPECT_NE(table.find("| w | fd | 2 | 50.0 ± 0.0 | 60.0 ± 0.0 | 85.0 ± 7.1 | 85.0 ± 7.1 | > 6 s "
+                       "(1/2 reached) |"),
+            std::string::npos)
+      << table;
+}
+
+TEST(BenchReportTest, ComparisonAgainstTheReferenceMethod) {
+  std::vector<RunRecord> records;
+  const struct {
+    const char* method;
+    const char* coverage;
+    const char* time_to_90;
+  } runs[] = {{"ours", "0.9", "3"}, {"ours", "0.8", "5"},  {"ours", "1.0", "null"},
+              {"fd", "0.5", "4"},   {"fd", "0.6", "null"}, {"fd", "0.7", "null"}};
+  int seed = 0;
+  for (const auto& spec : runs) {
+    RunRecord r;
+    r.run = {"w", "w", spec.method, ++seed, "unused"};
+    r.fields = {{"coverage", spec.coverage}, {"time_to_90_coverage_s", spec.time_to_90}};
+    records.push_back(r);
+  }
+  EXPECT_EQ(ReferenceMethod({"fd", "ours", "ags"}), "ours");
+  EXPECT_EQ(ReferenceMethod({"fd", "ags"}), "ags");
+  const std::string table = ComparisonMarkdown(records, {"w"}, {"fd", "ours"}, 6.0);
+  EXPECT_NE(table.find("| world | metric | fd | ours | ours vs fd |"), std::string::npos) << table;
+  // Means 0.6 and 0.9: +50 %, and the samples are fully separated (p of 3 vs 3).
+  EXPECT_NE(table.find("| w | coverage | 0.600 | 0.900 | +50.0 % (p = 0.081) |"), std::string::npos)
+      << table;
+  // Medians: fd's lies past the end, so no relative difference; p ranks never-reached runs last.
+  EXPECT_NE(table.find("| w | time to 90 % coverage (median) | > 6 s | 5 s | – (p = 0.64) |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| w | A.C | – | – | – |"), std::string::npos) << table;  // no values at all
+}
+
+}  // namespace
+}  // namespace aslam

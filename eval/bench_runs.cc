@@ -1,0 +1,259 @@
+#include "eval/bench_runs.h"
+
+#include <signal.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <list>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include <yaml-cpp/yaml.h>
+
+#include "common/subprocess.h"
+#include "common/text_format.h"
+#include "utility/utility_config.h"
+
+namespace aslam {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A run's `aslam explore --inproc` child.
+struct RunningChild {
+  const BenchRun* run = nullptr;
+  Clock::time_point started;
+  Subprocess process;
+};
+
+// The child's command line: the bench's options for this run.
+std::vector<std::string> ExploreArgv(const BenchOptions& options, const BenchRun& run) {
+  std::vector<std::string> args = {options.aslam_binary,
+                                   "explore",
+                                   "--inproc",
+                                   "--world",
+                                   run.world,
+                                   "--method",
+                                   run.method,
+                                   "--seed",
+                                   std::to_string(run.seed),
+                                   "--duration",
+                                   Format("%.17g", options.duration_s),
+                                   "--out",
+                                   run.dir,
+                                   "--progress",
+                                   "60"};
+  if (!options.config_file.empty()) args.insert(args.end(), {"--config", options.config_file});
+  if (options.start) {
+    args.insert(args.end(), {"--start", Format("%.17g", options.start->x_m) + "," +
+                                            Format("%.17g", options.start->y_m) + "," +
+                                            Format("%.17g", options.start->yaw_rad)});
+  }
+  return args;
+}
+
+}  // namespace
+
+double RunRecord::Number(const std::string& key) const {
+  for (const auto& [k, v] : fields) {
+    if (k != key) continue;
+    if (v == "null" || v.empty()) return std::nan("");
+    if (v == "true") return 1.0;
+    if (v == "false") return 0.0;
+    char* end = nullptr;
+    const double value = std::strtod(v.c_str(), &end);
+    return end && *end == '\0' ? value : std::nan("");
+  }
+  return std::nan("");
+}
+
+std::string ResolveWorld(const std::string& world) {
+  if (fs::exists(world)) return world;
+  const std::string shipped = std::string(ASLAM_SOURCE_DIR) + "/worlds/" + world;
+  if (world.find('/') == std::string::npos && fs::is_directory(shipped)) return shipped;
+  return world;
+}
+
+std::string WorldLabel(const std::string& world) {
+  fs::path path(world);
+  while (path.has_parent_path() && path.filename().empty())
+    path = path.parent_path();  // trailing '/'
+  if (fs::is_directory(path)) return path.filename().string();
+  const std::string stem = path.stem().string();
+  // DIR/world.yaml and DIR/map.yaml name the world by its folder.
+  if ((stem == "world" || stem == "map") && path.has_parent_path())
+    return path.parent_path().filename().string();
+  return stem;
+}
+
+std::vector<BenchRun> PlanBench(const BenchOptions& options) {
+  if (options.worlds.empty()) throw std::invalid_argument("--worlds: no world given");
+  if (options.methods.empty()) throw std::invalid_argument("--methods: no method given");
+  for (const std::string& method : options.methods) {
+    if (!ParseUtilityMethod(method))
+      throw std::invalid_argument("--methods: '" + method + "': expected fd, ags or ours");
+  }
+  if (options.seeds < 1) throw std::invalid_argument("--seeds must be >= 1");
+  if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  if (options.jobs < 1) throw std::invalid_argument("--jobs must be >= 1");
+  if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
+  std::set<std::string> labels;
+  std::vector<std::pair<std::string, std::string>> worlds;  // (path, label)
+  for (const std::string& given : options.worlds) {
+    const std::string world = ResolveWorld(given);
+    if (!fs::exists(world))
+      throw std::invalid_argument("--worlds: '" + given + "': no such world folder or map file");
+    const std::string label = WorldLabel(world);
+    if (!labels.insert(label).second)
+      throw std::invalid_argument("--worlds: two worlds are named '" + label + "'");
+    worlds.emplace_back(world, label);
+  }
+  std::vector<BenchRun> runs;
+  for (int seed = 1; seed <= options.seeds; ++seed) {
+    for (const auto& [world, label] : worlds) {
+      for (const std::string& method : options.methods) {
+        char seed_dir[32];
+        std::snprintf(seed_dir, sizeof seed_dir, "seed_%02d", seed);
+        runs.push_back({world, label, method, seed,
+                        options.out_dir + "/runs/" + label + "/" + method + "/" + seed_dir});
+      }
+    }
+  }
+  return runs;
+}
+
+std::optional<RunRecord> ReadFinishedRun(const BenchRun& run) {
+  const std::string path = run.dir + "/metrics.json";
+  if (!fs::exists(path)) return std::nullopt;
+  // JSON is YAML's flow style: yaml-cpp reads metrics.json without a JSON library.
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception&) {
+    return std::nullopt;  // torn by a crash: rerun it
+  }
+  if (!root.IsMap()) return std::nullopt;
+  RunRecord record{run, {}};
+  for (const auto& entry : root) {
+    record.fields.emplace_back(entry.first.as<std::string>(),
+                               entry.second.IsNull() ? "null" : entry.second.as<std::string>());
+  }
+  for (const auto& [key, value] : record.fields) {
+    if (key == "end_reason" && value == "interrupted") return std::nullopt;
+  }
+  return record;
+}
+
+BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop,
+                      const std::function<void(const BenchProgress&)>& on_progress) {
+  const std::vector<BenchRun> runs = PlanBench(options);
+  if (options.aslam_binary.empty()) throw std::invalid_argument("RunBench: no aslam binary");
+  const Clock::time_point start = Clock::now();
+  BenchSummary summary;
+  summary.total = static_cast<int>(runs.size());
+
+  std::vector<const BenchRun*> pending;
+  for (const BenchRun& run : runs) {
+    if (ReadFinishedRun(run)) {
+      ++summary.skipped;
+    } else {
+      pending.push_back(&run);
+    }
+  }
+
+  std::list<RunningChild> running;
+  std::vector<double> run_wall_s;
+  std::size_t next = 0;
+  auto report = [&] {
+    if (!on_progress) return;
+    BenchProgress p;
+    p.total = summary.total;
+    p.skipped = summary.skipped;
+    p.finished = summary.finished;
+    p.failed = static_cast<int>(summary.failed.size());
+    p.running = static_cast<int>(running.size());
+    p.elapsed_s = Since(start);
+    if (!run_wall_s.empty()) {
+      double mean = 0.0;
+      for (const double w : run_wall_s) mean += w;
+      mean /= run_wall_s.size();
+      // Runs still to start, plus what the running ones have left, spread over the jobs.
+      double left = (pending.size() - next) * mean;
+      for (const RunningChild& child : running) left += std::max(0.0, mean - Since(child.started));
+      p.eta_s = left / options.jobs;
+    }
+    on_progress(p);
+  };
+
+  auto spawn = [&](const BenchRun& run) {
+    fs::create_directories(run.dir);
+    SubprocessOptions spawn;
+    spawn.argv = ExploreArgv(options, run);
+    spawn.output_path = run.dir + "/explore.log";
+    try {
+      Subprocess process = Subprocess::Spawn(spawn);
+      running.push_back({&run, Clock::now(), std::move(process)});
+    } catch (const SpawnError& e) {
+      throw std::runtime_error("cannot start " + options.aslam_binary + ": " +
+                               std::strerror(e.error_number()));
+    }
+  };
+
+  report();
+  bool stopping = false;
+  while (next < pending.size() || !running.empty()) {
+    if (stop && stop->load() && !stopping) {
+      stopping = true;
+      summary.interrupted = true;
+      // Children write an "interrupted" run folder, which a resumed bench reruns.
+      for (RunningChild& child : running) child.process.Signal(SIGINT);
+    }
+    while (!stopping && next < pending.size() && static_cast<int>(running.size()) < options.jobs) {
+      spawn(*pending[next++]);
+      report();
+    }
+    bool any_ended = false;
+    for (auto it = running.begin(); it != running.end();) {
+      const std::optional<ExitStatus> status = it->process.Poll();
+      if (!status) {
+        ++it;
+        continue;
+      }
+      const BenchRun& run = *it->run;
+      const double wall_s = Since(it->started);
+      it = running.erase(it);
+      any_ended = true;
+      const bool ok = status->success() && ReadFinishedRun(run).has_value();
+      if (ok) {
+        ++summary.finished;
+        run_wall_s.push_back(wall_s);
+      } else if (!stopping) {
+        summary.failed.push_back(run.dir);
+      }
+      report();
+    }
+    if (stopping && running.empty()) break;
+    if (!any_ended) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  summary.wall_seconds = Since(start);
+  return summary;
+}
+
+void WriteBenchFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace aslam

@@ -1,0 +1,88 @@
+#pragma once
+
+// `aslam bench`'s run scheduling: the world × method × seed matrix, which of its
+// runs have finished (so an interrupted bench resumes where it stopped), and
+// running the others as `aslam explore --inproc` children, J at a time, each
+// writing its own run folder OUT/runs/<world>/<method>/seed_<NN>/ with the
+// child's output in explore.log.
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/pose2d.h"
+
+namespace aslam {
+
+struct BenchOptions {
+  std::vector<std::string> worlds;  // names under worlds/, world folders or MAP.yaml files
+  std::vector<std::string> methods = {"fd", "ags", "ours"};
+  int seeds = 15;               // seeds 1..seeds
+  double duration_s = 1800.0;   // simulated seconds per run
+  int jobs = 2;                 // runs in parallel
+  std::optional<Pose2d> start;  // for every world (needed by a bare MAP.yaml)
+  std::string config_file;      // passed to every run
+  std::string out_dir;
+  std::string aslam_binary;  // the `aslam` executable that runs `explore --inproc`
+  bool plots = true;         // call eval/bench_plots.py at the end
+};
+
+struct BenchRun {
+  std::string world;        // as given (resolved path)
+  std::string world_label;  // folder name or map file stem: runs/<label>/...
+  std::string method;
+  int seed = 0;
+  std::string dir;  // run folder
+};
+
+// One finished run's metrics.json, keys in file order.
+struct RunRecord {
+  BenchRun run;
+  std::vector<std::pair<std::string, std::string>> fields;  // raw JSON scalars ("null" kept)
+  double Number(const std::string& key) const;              // NaN if missing or null
+};
+
+struct BenchProgress {
+  int total = 0;
+  int skipped = 0;   // finished before this invocation
+  int finished = 0;  // finished by this invocation
+  int failed = 0;
+  int running = 0;
+  double elapsed_s = 0.0;
+  double eta_s = -1.0;  // < 0: unknown yet
+};
+
+struct BenchSummary {
+  int total = 0;
+  int skipped = 0;
+  int finished = 0;
+  std::vector<std::string> failed;  // run folders whose child exited non-zero
+  bool interrupted = false;
+  double wall_seconds = 0.0;
+};
+
+// "office" -> SOURCE/worlds/office when that exists and no such path does.
+std::string ResolveWorld(const std::string& world);
+// runs/<label> name of a world: its folder name or its MAP.yaml's stem.
+std::string WorldLabel(const std::string& world);
+
+// The matrix in run order: seed by seed, each seed on every world with every
+// method, so a partial matrix stays balanced across worlds and methods. Throws
+// std::invalid_argument for a bad option.
+std::vector<BenchRun> PlanBench(const BenchOptions& options);
+
+// The run folder's metrics.json parsed, if the run finished (any end reason
+// but "interrupted").
+std::optional<RunRecord> ReadFinishedRun(const BenchRun& run);
+
+// Runs every unfinished run; `stop` (Ctrl-C) stops the children and returns.
+BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop,
+                      const std::function<void(const BenchProgress&)>& on_progress);
+
+// Writes one file of the bench folder (truncated); throws std::runtime_error naming it.
+void WriteBenchFile(const std::string& path, const std::string& text);
+
+}  // namespace aslam
