@@ -1,6 +1,6 @@
 #pragma once
 
-// The in-process hosting of DESIGN §4: every node on one memq:// LCM, the
+// The in-process hosting of docs/architecture.md §4: every node on one memq:// LCM, the
 // simulator driving the clock. After each tick the host dispatches every
 // pending message (including those published while dispatching) before the
 // next tick, so a run is deterministic and as fast as the CPU allows.

@@ -130,7 +130,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   if (!(options.rate >= 0)) throw std::invalid_argument("--rate must be >= 0");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
 
-  // Every option is validated here, before any process starts (DESIGN §7.4).
+  // Every option is validated here, before any process starts (docs/architecture.md §7).
   (void)LoadSimulatorOptionsFromFile(ex.config_file);
   (void)LoadSlamConfigFromFile(ex.config_file);
   (void)LoadFrontierOptionsFromFile(ex.config_file);

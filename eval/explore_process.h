@@ -1,11 +1,11 @@
 #pragma once
 
-// `aslam explore` in process mode (the default, DESIGN §4): aslam-procman
+// `aslam explore` in process mode (the default, docs/architecture.md §4): aslam-procman
 // deputy runs config/launch/explore.yaml (sim, slam, frontier, utility, nav
 // and lcm-logger) on a private LCM URL, with the run folder as its log
 // folder, so the run folder holds run.lcmlog and each process's log. This
 // runner listens on the same URL, for evaluation only (SIM_TRUTH and
-// SIM_STATUS for coverage and ATE, DESIGN §6), prints progress and, at the
+// SIM_STATUS for coverage and ATE, docs/architecture.md §6), prints progress and, at the
 // end (EXPLORE_STATUS done, the duration, Ctrl-C or the deputy ending),
 // stops the deputy with SIGTERM, waits for it and returns the same result as
 // the in-process runner: the final map and graph are the last SLAM_MAP and

@@ -45,7 +45,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
     throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
   if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
 
-  // Every option is loaded and validated before anything runs (DESIGN §7.4); the
+  // Every option is loaded and validated before anything runs (docs/architecture.md §7); the
   // robot once, for the simulator and the navigator, whose planning frontier and
   // utility share.
   const std::string& file = options.config_file;

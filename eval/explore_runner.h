@@ -2,10 +2,10 @@
 
 // `aslam explore --inproc`: every node (simulator, SLAM, frontier, utility,
 // navigation) on one InProcessHost memq:// bus, ticked by the simulator
-// (DESIGN §4), deterministic for a seed and as fast as the CPU allows.
+// (docs/architecture.md §4), deterministic for a seed and as fast as the CPU allows.
 //
 // The runner alone listens to SIM_TRUTH and SIM_STATUS, for evaluation
-// (coverage and ATE, DESIGN §6); the algorithm nodes never see them. It
+// (coverage and ATE, docs/architecture.md §6); the algorithm nodes never see them. It
 // reads the wall clock only for wall_seconds and the progress line.
 
 #include <atomic>
@@ -66,7 +66,7 @@ struct RunMetrics {
   uint64_t seed = 0;
   double sim_seconds = 0.0;
   double wall_seconds = 0.0;
-  double coverage = 0.0;    // DESIGN §6, of the final SLAM map
+  double coverage = 0.0;    // docs/architecture.md §6, of the final SLAM map
   double ate_rmse_m = 0.0;  // keyframes vs SIM_TRUTH
   double ate_max_m = 0.0;
   int ate_matched = 0;
@@ -82,7 +82,7 @@ struct RunMetrics {
   double free_area_m2 = 0.0;                    // ground-truth free area
   double occupied_precision = 0.0;  // map agreement of the final map (trajectory_metrics.h)
   double free_precision = 0.0;
-  // DESIGN §6 of the final graph and map (eval/graph_metrics.h, eval/map_metrics.h).
+  // docs/architecture.md §6 of the final graph and map (eval/graph_metrics.h, eval/map_metrics.h).
   double average_degree = 0.0;
   double algebraic_connectivity = 0.0;
   double normalized_tree_connectivity = 0.0;

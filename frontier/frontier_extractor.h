@@ -58,8 +58,8 @@ struct FrontierOptions {
   double max_segment_length_m = 2.5;  // longer clusters are cut into equal pieces
   double target_radius_m = 1.0;       // target search around the centroid (besides the segment)
   double match_distance_m = 1.0;      // centroids this close keep the previous frontier's id
-  // The navigator's costmap (robot radius 0.2 m; unknown passable as in
-  // aslam-nav, so "reachable" means the navigator will plan there).
+  // The navigator's own costmap options (nav.costmap with the robot's radius), so
+  // "reachable" means the navigator will plan there.
   CostmapOptions costmap;
   GlobalPlannerOptions global_planner;  // start_escape_m: leaving a start pressed against a wall
 

@@ -5,7 +5,7 @@
 // frontiers seen from the latest pose and publishes FRONTIERS (utime = the
 // map's utime). A map that arrives before any pose is extracted when the
 // first pose comes. The same node runs in the aslam-frontier process and
-// in-process on memq:// (DESIGN §4).
+// in-process on memq:// (docs/architecture.md §4).
 
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>

@@ -5,7 +5,7 @@
 // and NAV_STATUS, and NAV_PATH whenever the path was replanned or cleared.
 // NAV_STATUS also goes out on every goal message and, without scans, at
 // least once per second of pose time. The same node runs in the aslam-nav
-// process and in-process on memq:// (DESIGN §4).
+// process and in-process on memq:// (docs/architecture.md §4).
 
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>

@@ -1,7 +1,7 @@
 #pragma once
 
 // procman's value types (no LCM): the actual state a deputy reports and the
-// desired state a sheriff orders, both whole (DESIGN §7.8).
+// desired state a sheriff orders, both whole (docs/architecture.md §8).
 
 #include <cstdint>
 #include <string>

@@ -51,7 +51,7 @@ class Pose2dManifold final : public ceres::Manifold {
 }
 
 // Node ids, edge ids and information matrices are the builder's invariants
-// (DESIGN §7.7): a violation is a bug upstream, so abort with a message.
+// (docs/architecture.md §8): a violation is a bug upstream, so abort with a message.
 void CheckEdge(const PoseGraph& graph, const PoseGraphEdge& edge) {
   const int n = static_cast<int>(graph.nodes.size());
   if (edge.from_id < 0 || edge.from_id >= n || edge.to_id < 0 || edge.to_id >= n) {

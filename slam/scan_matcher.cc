@@ -60,7 +60,7 @@ void ValidateScanMatcherOptions(const ScanMatcherOptions& o) {
 
 namespace {
 
-// Options reaching the library unvalidated are a broken invariant (DESIGN §7.7).
+// Options reaching the library unvalidated are a broken invariant (docs/architecture.md §8).
 void CheckOptions(const ScanMatcherOptions& options) {
   try {
     ValidateScanMatcherOptions(options);

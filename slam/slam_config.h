@@ -2,7 +2,7 @@
 
 // The loader of the `slam:` config section: SlamOptions for the library and
 // SlamNodeOptions for its LCM node (`slam.node`), read and validated once at
-// load time (DESIGN §7.4).
+// load time (docs/architecture.md §7).
 
 #include <string>
 

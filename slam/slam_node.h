@@ -4,7 +4,7 @@
 // publishes SLAM_POSE, POSE_GRAPH when the graph changed, and SLAM_MAP when
 // the map changed, at most once per map_period_s of message time but at once
 // after a loop closure or re-render. The same node runs in the aslam-slam
-// process and in-process on memq:// (DESIGN §4); it never reads the wall clock.
+// process and in-process on memq:// (docs/architecture.md §4); it never reads the wall clock.
 
 #include <cstdint>
 #include <string>

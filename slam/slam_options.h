@@ -1,6 +1,6 @@
 #pragma once
 
-// Every option of the SLAM component in one struct (DESIGN §7.4), loaded from
+// Every option of the SLAM component in one struct (docs/architecture.md §7), loaded from
 // the `slam:` config section by slam_config.h.
 
 #include "slam/occupancy_mapper.h"

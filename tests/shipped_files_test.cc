@@ -1,4 +1,4 @@
-// Every shipped config, drive and world loads (DESIGN §7.5), and a drive
+// Every shipped config, drive and world loads (docs/architecture.md §7), and a drive
 // shipped for a world runs through it without a collision.
 
 #include <filesystem>

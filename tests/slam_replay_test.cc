@@ -1,6 +1,6 @@
 // Replays logs/test_loop.lcmlog (the simulator driving the full ring-corridor
 // loop of worlds/test, recorded by logs/record_test_loop.sh) through SlamNode
-// on memq:// (DESIGN §4): the log's ODOMETRY and LIDAR_SCAN bytes are
+// on memq:// (docs/architecture.md §4): the log's ODOMETRY and LIDAR_SCAN bytes are
 // published as recorded, every message dispatched before the next. What the
 // node publishes (POSE_GRAPH, SLAM_MAP) is judged against the log's
 // SIM_TRUTH and the world's true map. Each bound is checked to mean something:

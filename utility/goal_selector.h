@@ -1,6 +1,6 @@
 #pragma once
 
-// One goal decision (DESIGN §5, issue #5): every frontier is scored by the
+// One goal decision (docs/architecture.md §5, issue #5): every frontier is scored by the
 // configured method and the best eligible one wins. No LCM, no wall clock.
 //
 //   eligibility  ineligible (total = -inf) when the target is closer than
@@ -48,7 +48,7 @@ const char* EligibilityName(Eligibility eligibility);
 struct GoalSelectorOptions {
   UtilityMethod method = UtilityMethod::kOurs;
   PathEntropyOptions path_entropy;  // λ and the unit of d in γ
-  double min_distance_m = 0.25;     // targets closer to the robot are ineligible (DESIGN §5)
+  double min_distance_m = 0.25;     // targets closer to the robot are ineligible (docs/architecture.md §5)
   double max_path_length_m = 0.0;   // longer planned paths are ineligible; 0 = no limit
   double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
   // A target the planner cannot enter (e.g. in the inflated zone) is planned

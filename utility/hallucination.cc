@@ -1,6 +1,6 @@
 #include "utility/hallucination.h"
 
-// Interpretations of DESIGN §5 made here (one decision each):
+// Interpretations of docs/architecture.md §5 made here (one decision each):
 // - path_cells = path_m.size(); the path runs robot (index 0) → frontier target
 //   (index path_cells − 1).
 // - K = ceil(path_cells / path_cells_per_node) nodes split the path into K + 1
@@ -113,7 +113,7 @@ Eigen::Matrix3d OdometryInformation(const HallucinationOptions& options) {
   sigma << options.odometry_sigma_xx, options.odometry_sigma_xy, 0.0,  //
       options.odometry_sigma_xy, options.odometry_sigma_yy, 0.0,       //
       0.0, 0.0, options.odometry_sigma_yawyaw;
-  return 0.5 * sigma.inverse();  // I_odo = ½·inv(Σ_odo), DESIGN §5
+  return 0.5 * sigma.inverse();  // I_odo = ½·inv(Σ_odo), docs/architecture.md §5
 }
 
 Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<Point2d>& path_m,

@@ -1,6 +1,6 @@
 #pragma once
 
-// The hallucinated extension of DESIGN §5 (U1, after Placed & Castellanos'
+// The hallucinated extension of docs/architecture.md §5 (U1, after Placed & Castellanos'
 // Active Graph SLAM): the nodes and edges the pose graph would gain if the
 // robot drove the planned path to a frontier, weighted by D-optimality.
 
@@ -15,7 +15,7 @@
 
 namespace aslam {
 
-struct HallucinationOptions {  // DESIGN §5 constants
+struct HallucinationOptions {  // docs/architecture.md §5 constants
   int path_cells_per_node = 100;  // ceil(path_cells / 100) nodes + one at the frontier
   // Σ_odo = [[xx, xy, 0], [xy, yy, 0], [0, 0, yawyaw]] (m², m², rad²).
   double odometry_sigma_xx = 0.04, odometry_sigma_xy = 0.001, odometry_sigma_yy = 0.04,

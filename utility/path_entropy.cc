@@ -64,7 +64,7 @@ RayEntropy PathEntropy(const OccupancyGrid& map, CellIndex robot, CellIndex targ
   RayEntropy result;
   for (const CellIndex& cell : BresenhamLine(robot, target)) {
     ++result.ray_cells;
-    // Off the map reads as known (DESIGN §5): nothing there for the robot to learn by going.
+    // Off the map reads as known (docs/architecture.md §5): nothing there for the robot to learn by going.
     if (map.ValueOr(cell, OccupancyGrid::kFree) == OccupancyGrid::kUnknown) {
       ++result.unknown_cells;
     }

@@ -1,6 +1,6 @@
 #pragma once
 
-// U2 of the paper (eqs. 4-7), exactly as DESIGN §5 fixes it: the path entropy
+// U2 of the paper (eqs. 4-7), exactly as docs/architecture.md §5 fixes it: the path entropy
 // along the Bresenham ray from the robot cell R to the frontier target cell n,
 // a distance decay γ and the balancing factor ρ = 10^β from U1.
 //
@@ -18,7 +18,7 @@
 
 namespace aslam {
 
-// The unit of d in γ = exp(-λ d). DESIGN's default is metres; the authors' code used cells.
+// The unit of d in γ = exp(-λ d). Metres by default (docs/architecture.md §5); the authors' code used cells.
 enum class DistanceUnit { kMeters, kCells };
 
 struct PathEntropyOptions {

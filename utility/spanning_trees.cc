@@ -15,7 +15,7 @@
 namespace aslam {
 namespace {
 
-constexpr double kEigenvalueFloor = 1e-8;  // DESIGN §5: smaller eigenvalues are skipped
+constexpr double kEigenvalueFloor = 1e-8;  // docs/architecture.md §5: smaller eigenvalues are skipped
 
 [[noreturn]] void Fail(const char* what) {
   std::fprintf(stderr, "spanning_trees: %s\n", what);
@@ -115,7 +115,7 @@ double LogDetOfFactor(const cholmod_factor* factor) {
 }  // namespace
 
 double DOptimality(const Eigen::Matrix3d& information) {
-  // DESIGN §5 (and the AGS authors' code): exp((1/3)·Σ log λ_k) over λ_k > 1e-8,
+  // docs/architecture.md §5 (and the AGS authors' code): exp((1/3)·Σ log λ_k) over λ_k > 1e-8,
   // i.e. skipped eigenvalues still count in the 1/3.
   const Eigen::Matrix3d symmetric = 0.5 * (information + information.transpose());
   const Eigen::Vector3d eigenvalues =
@@ -194,7 +194,7 @@ double U1FromLogDet(double log_det, int num_nodes) {
   return std::exp((std::log(static_cast<double>(num_nodes)) + log_det) / num_nodes);
 }
 
-// The incremental way (DESIGN §5). With A the base reduced Laplacian and the
+// The incremental way (docs/architecture.md §5). With A the base reduced Laplacian and the
 // extended one [[A + ΔA, B], [Bᵀ, C]] (ΔA and B nonzero only on the few old
 // nodes T that extension edges touch):
 //   log det = log det A + log det(I + Rᵀ W R) + log det(C − B_Tᵀ S' B_T),

@@ -1,6 +1,6 @@
 #pragma once
 
-// U1 of DESIGN §5: the weighted number of spanning trees of the pose graph
+// U1 of docs/architecture.md §5: the weighted number of spanning trees of the pose graph
 // extended by a hallucinated path to a frontier, via log det of the reduced
 // weighted Laplacian. Three ways to get log det: dense (Eigen, tests and the
 // benchmark), sparse from scratch (CHOLMOD, one factorization per candidate),
@@ -17,7 +17,7 @@
 namespace aslam {
 
 // Modern D-optimality of a 3x3 information matrix: exp((1/3)·Σ log λ_k) over
-// the eigenvalues λ_k > 1e-8, as DESIGN §5 and the AGS authors' code (skipped
+// the eigenvalues λ_k > 1e-8, as docs/architecture.md §5 and the AGS authors' code (skipped
 // eigenvalues still count in the 1/3); 0 when there is none.
 double DOptimality(const Eigen::Matrix3d& information);
 // Min eigenvalue (E-optimality), for the metrics.

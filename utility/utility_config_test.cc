@@ -35,7 +35,7 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_EQ(s.path_entropy.distance_unit, DistanceUnit::kMeters);
   EXPECT_DOUBLE_EQ(s.path_entropy.p_unknown, d.path_entropy.p_unknown);
   EXPECT_DOUBLE_EQ(s.path_entropy.p_known, d.path_entropy.p_known);
-  EXPECT_DOUBLE_EQ(s.min_distance_m, 0.25);  // DESIGN §5
+  EXPECT_DOUBLE_EQ(s.min_distance_m, 0.25);  // docs/architecture.md §5
   EXPECT_DOUBLE_EQ(s.max_path_length_m, d.max_path_length_m);
   EXPECT_DOUBLE_EQ(s.blacklist_radius_m, d.blacklist_radius_m);
   EXPECT_DOUBLE_EQ(s.goal_snap_m, d.goal_snap_m);

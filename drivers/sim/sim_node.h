@@ -1,7 +1,7 @@
 #pragma once
 
 // The simulator on LCM: subscribes CMD_VEL, publishes LIDAR_SCAN, ODOMETRY,
-// SIM_TRUTH and SIM_STATUS. The same node runs in both hostings (DESIGN §4):
+// SIM_TRUTH and SIM_STATUS. The same node runs in both hostings (docs/architecture.md §4):
 // ticked by InProcessHost on memq://, or paced against the wall clock by
 // RunRealTime in the aslam-sim process.
 
