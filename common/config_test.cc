@@ -47,8 +47,7 @@ ExampleOptions LoadExample(const ConfigReader& reader) {
 
 TEST(ConfigReader, ReadsValuesAndKeepsDefaults) {
   const auto options = LoadExample(ConfigReader::FromString(
-      "sim:\n  rate_hz: 20\n  enabled: true\n  gains: [1, 2.5]\n  inner: {size_m: 1.5}\n",
-      "sim"));
+      "sim:\n  rate_hz: 20\n  enabled: true\n  gains: [1, 2.5]\n  inner: {size_m: 1.5}\n", "sim"));
   EXPECT_DOUBLE_EQ(options.rate_hz, 20.0);
   EXPECT_EQ(options.beams, 720);
   EXPECT_TRUE(options.enabled);
@@ -66,12 +65,14 @@ TEST(ConfigReader, UnknownKeyNamesFileLineAndKey) {
   const std::string message = ErrorOf([] {
     LoadExample(ConfigReader::FromString("sim:\n  rate_hz: 5\n  beamz: 3\n", "sim", "my.yaml"));
   });
-  EXPECT_THAT(message, AllOf(HasSubstr("my.yaml:3"), HasSubstr("sim.beamz"), HasSubstr("unknown key")));
+  EXPECT_THAT(message,
+              AllOf(HasSubstr("my.yaml:3"), HasSubstr("sim.beamz"), HasSubstr("unknown key")));
 }
 
 TEST(ConfigReader, UnknownNestedKeyIsCaught) {
   const std::string message = ErrorOf([] {
-    LoadExample(ConfigReader::FromString("sim:\n  inner:\n    size_m: 1\n    colour: red\n", "sim"));
+    LoadExample(
+        ConfigReader::FromString("sim:\n  inner:\n    size_m: 1\n    colour: red\n", "sim"));
   });
   EXPECT_THAT(message, HasSubstr("sim.inner.colour"));
 }
@@ -103,8 +104,9 @@ TEST(ConfigReader, OutOfRangeNamesKeyAndValue) {
 
 TEST(ConfigReader, NegativeValueForUnsignedIsRejected) {
   uint64_t seed = 1;
-  EXPECT_THAT(ErrorOf([&] { ConfigReader::FromString("sim: {seed: -4}", "sim").Read("seed", &seed); }),
-              HasSubstr("non-negative"));
+  EXPECT_THAT(
+      ErrorOf([&] { ConfigReader::FromString("sim: {seed: -4}", "sim").Read("seed", &seed); }),
+      HasSubstr("non-negative"));
 }
 
 TEST(ConfigReader, UnknownSectionAndMalformedYamlAreErrors) {
@@ -117,8 +119,8 @@ TEST(ConfigReader, UnknownSectionAndMalformedYamlAreErrors) {
 }
 
 TEST(ConfigReader, ListsOfMappings) {
-  const auto reader = ConfigReader::FromString(
-      "sim:\n  steps:\n    - {a: 1}\n    - {a: 2, b: 3}\n", "sim", "l.yaml");
+  const auto reader = ConfigReader::FromString("sim:\n  steps:\n    - {a: 1}\n    - {a: 2, b: 3}\n",
+                                               "sim", "l.yaml");
   std::vector<double> values;
   for (const auto& item : reader.List("steps")) {
     double a = 0;
@@ -137,9 +139,11 @@ TEST(ConfigReader, FileErrorsNameTheFile) {
     std::ofstream out(path);
     out << "sim:\n  rate_hz: 5\n  beams: 7.5\n";
   }
-  const std::string message = ErrorOf([&] { LoadExample(ConfigReader::FromFile(path.string(), "sim")); });
+  const std::string message =
+      ErrorOf([&] { LoadExample(ConfigReader::FromFile(path.string(), "sim")); });
   std::filesystem::remove(path);
-  EXPECT_THAT(message, AllOf(HasSubstr(path.string() + ":3"), HasSubstr("sim.beams"), HasSubstr("'7.5'")));
+  EXPECT_THAT(message,
+              AllOf(HasSubstr(path.string() + ":3"), HasSubstr("sim.beams"), HasSubstr("'7.5'")));
 }
 
 }  // namespace

@@ -27,8 +27,9 @@ class InProcessHost {
   // Calls `tick` (which advances the clock and publishes), then dispatches,
   // until `tick` returns false or `keep_running` (checked after each
   // dispatch) returns false. Returns the number of ticks run.
-  int64_t Run(const std::function<bool()>& tick,
-              const std::function<bool()>& keep_running = [] { return true; });
+  int64_t Run(
+      const std::function<bool()>& tick,
+      const std::function<bool()>& keep_running = [] { return true; });
 
   int64_t messages_dispatched() const { return messages_dispatched_; }
 

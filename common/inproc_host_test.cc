@@ -43,10 +43,9 @@ TEST(InProcessHost, DispatchesEverythingInOrderBeforeTheNextTick) {
   });
 
   EXPECT_EQ(ticks, 3);
-  const std::vector<std::string> expected = {
-      "tick1", "A10", "A11", "B10", "B11",  //
-      "tick2", "A20", "A21", "B20", "B21",  //
-      "tick3", "A30", "A31", "B30", "B31"};
+  const std::vector<std::string> expected = {"tick1", "A10", "A11", "B10", "B11",  //
+                                             "tick2", "A20", "A21", "B20", "B21",  //
+                                             "tick3", "A30", "A31", "B30", "B31"};
   EXPECT_EQ(events, expected);
   EXPECT_EQ(host.messages_dispatched(), 12);
 }
@@ -54,7 +53,8 @@ TEST(InProcessHost, DispatchesEverythingInOrderBeforeTheNextTick) {
 TEST(InProcessHost, StopsWhenKeepRunningSaysSo) {
   InProcessHost host;
   int ticks_seen = 0;
-  const int64_t ticks = host.Run([&] { return ++ticks_seen < 100; }, [&] { return ticks_seen < 5; });
+  const int64_t ticks =
+      host.Run([&] { return ++ticks_seen < 100; }, [&] { return ticks_seen < 5; });
   EXPECT_EQ(ticks, 5);
 }
 

@@ -18,8 +18,9 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url) {
   if (!lcm->good()) {
     std::string hint;
     if (url.rfind("udpm://", 0) == 0) {
-      hint = " (udpm needs a multicast route; for loopback only: "
-             "sudo ip link set lo multicast on && sudo ip route add 224.0.0.0/4 dev lo)";
+      hint =
+          " (udpm needs a multicast route; for loopback only: "
+          "sudo ip link set lo multicast on && sudo ip route add 224.0.0.0/4 dev lo)";
     }
     throw std::runtime_error("cannot open LCM on '" + url + "'" + hint);
   }

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "aslam/velocity_command_t.hpp"
 #include "aslam/odometry_t.hpp"
+#include "aslam/velocity_command_t.hpp"
 #include "common/inproc_host.h"
 
 namespace aslam {

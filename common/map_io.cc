@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <yaml-cpp/yaml.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <yaml-cpp/yaml.h>
 
 namespace aslam {
 namespace {

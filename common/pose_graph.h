@@ -16,16 +16,16 @@ namespace aslam {
 enum class EdgeKind : int8_t { kOdometry = 0, kLoopClosure = 1 };
 
 struct PoseGraphNode {
-  int id = 0;          // dense from 0: nodes[i].id == i
-  int64_t utime = 0;   // time of the keyframe's scan
-  Pose2d pose;         // estimate in "map"
+  int id = 0;         // dense from 0: nodes[i].id == i
+  int64_t utime = 0;  // time of the keyframe's scan
+  Pose2d pose;        // estimate in "map"
 };
 
 struct PoseGraphEdge {
   int from_id = 0;
   int to_id = 0;
   EdgeKind kind = EdgeKind::kOdometry;
-  Pose2d measurement;  // pose of `to` in the frame of `from`
+  Pose2d measurement;                                         // pose of `to` in the frame of `from`
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();  // over (x_m, y_m, yaw_rad)
 };
 

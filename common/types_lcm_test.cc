@@ -179,7 +179,9 @@ TEST(TypesLcm, MalformedPoseGraphsAreRejected) {
       {"edge to itself", [](pose_graph_t* m) { m->edges[0].to_id = 0; }},
       {"unknown kind", [](pose_graph_t* m) { m->edges[0].kind = 2; }},
       {"measurement inf",
-       [](pose_graph_t* m) { m->edges[1].measurement.x_m = std::numeric_limits<double>::infinity(); }},
+       [](pose_graph_t* m) {
+         m->edges[1].measurement.x_m = std::numeric_limits<double>::infinity();
+       }},
       {"information NaN", [nan](pose_graph_t* m) { m->edges[0].information[4] = nan; }},
       {"information asymmetric", [](pose_graph_t* m) { m->edges[1].information[5] = 0.5; }},
   };

@@ -53,16 +53,18 @@ TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
   EXPECT_LT(*m.time_to_90_coverage_s, m.sim_seconds + 1e-9);
   EXPECT_FALSE(r.map.empty());
   EXPECT_EQ(static_cast<int>(r.graph.nodes.size()), m.keyframes);
-  std::printf("[ measured ] %s: coverage %.4f, done at %.1f s, ATE RMSE %.3f m, %d keyframes, "
-              "%d loop closures, goals %d reached %d failed\n",
-              GetParam().c_str(), m.coverage, m.sim_seconds, m.ate_rmse_m, m.keyframes,
-              m.loop_closures, m.goals_reached, m.goals_failed);
+  std::printf(
+      "[ measured ] %s: coverage %.4f, done at %.1f s, ATE RMSE %.3f m, %d keyframes, "
+      "%d loop closures, goals %d reached %d failed\n",
+      GetParam().c_str(), m.coverage, m.sim_seconds, m.ate_rmse_m, m.keyframes, m.loop_closures,
+      m.goals_reached, m.goals_failed);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest, ::testing::Values("fd", "ags", "ours"),
                          [](const auto& info) { return info.param; });
 
-// docs/architecture.md §4: in-process runs are deterministic for a seed; only the wall time differs.
+// docs/architecture.md §4: in-process runs are deterministic for a seed; only the wall time
+// differs.
 TEST(ExploreRunnerTest, SameSeedGivesIdenticalMetricsAndTimeline) {
   ExploreResult a = RunExploreInProcess(TestWorld("ours"));
   ExploreResult b = RunExploreInProcess(TestWorld("ours"));
@@ -82,7 +84,8 @@ TEST(ExploreRunnerTest, RunFolderHoldsEveryFileConsistentWithTheMetrics) {
   const std::string dir = ::testing::TempDir() + "/explore_runner_test_run";
   std::filesystem::remove_all(dir);
   WriteRunFolder(r, dir);
-  for (const char* f : {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
+  for (const char* f :
+       {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
   const YAML::Node metrics = YAML::LoadFile(dir + "/metrics.json");

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <string>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCore>
 #include <Spectra/MatOp/SparseSymShiftSolve.h>
 #include <Spectra/SymEigsShiftSolver.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 
 namespace aslam {
 namespace {
@@ -38,8 +38,7 @@ std::string DescribeEdge(std::size_t index, int from, int to) {
 void CheckEndpoints(std::size_t index, int from, int to, int num_nodes) {
   if (from < 0 || to < 0 || from >= num_nodes || to >= num_nodes) {
     throw std::invalid_argument("graph_metrics: " + DescribeEdge(index, from, to) +
-                                " refers to a node outside [0, " + std::to_string(num_nodes) +
-                                ")");
+                                " refers to a node outside [0, " + std::to_string(num_nodes) + ")");
   }
 }
 

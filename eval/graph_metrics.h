@@ -12,11 +12,13 @@
 #include <vector>
 
 #include "common/pose_graph.h"
-#include "utility/spanning_trees.h"  // WeightedGraph, DOptimality, EOptimality, LogDetReducedLaplacianSparse
+// WeightedGraph, DOptimality, EOptimality, LogDetReducedLaplacianSparse:
+#include "utility/spanning_trees.h"
 
 namespace aslam {
 
-// Average degree 2m/n over the graph's edges (every edge counts, odometry and loop closures); 0 for no nodes.
+// Average degree 2m/n over the graph's edges (every edge counts, odometry and loop closures); 0 for
+// no nodes.
 double AverageDegree(const PoseGraph& graph);
 
 // Algebraic connectivity: the 2nd-smallest eigenvalue λ2 of the weighted

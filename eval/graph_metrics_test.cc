@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 namespace aslam {
 namespace {
@@ -116,7 +116,8 @@ TEST(AlgebraicConnectivityTest, LargeRandomGraphMatchesDenseReference) {
     laplacian(e.to, e.from) -= e.weight;  // a self-loop adds and removes the same: no effect
   }
   const double expected =
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(laplacian, Eigen::EigenvaluesOnly).eigenvalues()[1];
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(laplacian, Eigen::EigenvaluesOnly)
+          .eigenvalues()[1];
   ASSERT_GT(expected, 1e-3);
   EXPECT_LT(RelativeError(AlgebraicConnectivity(graph), expected), 1e-7);
 }
@@ -199,14 +200,14 @@ TEST(NormalizedTreeConnectivityTest, NaNForTinyOrDisconnectedGraphs) {
   EXPECT_TRUE(std::isnan(NormalizedTreeConnectivity(WeightedGraph{2, {{0, 1, 1.0}}})));
   WeightedGraph two_triangles = Complete(3);
   two_triangles.num_nodes = 6;
-  for (const WeightedEdge& e : Complete(3).edges) two_triangles.edges.push_back({e.from + 3, e.to + 3, 1.0});
+  for (const WeightedEdge& e : Complete(3).edges)
+    two_triangles.edges.push_back({e.from + 3, e.to + 3, 1.0});
   EXPECT_TRUE(std::isnan(NormalizedTreeConnectivity(two_triangles)));
   // Node 0 (the removed row) isolated: the rest alone still has a singular Laplacian.
   WeightedGraph isolated_root = Complete(5);
-  isolated_root.edges.erase(
-      std::remove_if(isolated_root.edges.begin(), isolated_root.edges.end(),
-                     [](const WeightedEdge& e) { return e.from == 0; }),
-      isolated_root.edges.end());
+  isolated_root.edges.erase(std::remove_if(isolated_root.edges.begin(), isolated_root.edges.end(),
+                                           [](const WeightedEdge& e) { return e.from == 0; }),
+                            isolated_root.edges.end());
   EXPECT_TRUE(std::isnan(NormalizedTreeConnectivity(isolated_root)));
 }
 
@@ -236,7 +237,7 @@ TEST(AverageDegreeTest, CountsEveryEdge) {
 
 TEST(MeanEdgeDOptimalityTest, MeanOfCubeRoots) {
   PoseGraph graph = ToPoseGraph(Path(4), Eigen::Matrix3d::Identity());
-  graph.edges[0].information = RotatedInformation(1.0, 8.0, 27.0);  // ∛216 = 6
+  graph.edges[0].information = RotatedInformation(1.0, 8.0, 27.0);           // ∛216 = 6
   graph.edges[1].information = Eigen::Vector3d(2.0, 2.0, 2.0).asDiagonal();  // 2
   graph.edges[2].information = Eigen::Vector3d(4.0, 2.0, 1.0).asDiagonal();  // ∛8 = 2
   EXPECT_NEAR(MeanEdgeDOptimality(graph), 10.0 / 3.0, 1e-12);
@@ -244,7 +245,8 @@ TEST(MeanEdgeDOptimalityTest, MeanOfCubeRoots) {
 
 TEST(MeanEdgeDOptimalityTest, NaNWithoutEdges) {
   EXPECT_TRUE(std::isnan(MeanEdgeDOptimality(PoseGraph{})));
-  EXPECT_TRUE(std::isnan(MeanEdgeDOptimality(ToPoseGraph(WeightedGraph{3, {}}, Eigen::Matrix3d::Identity()))));
+  EXPECT_TRUE(std::isnan(
+      MeanEdgeDOptimality(ToPoseGraph(WeightedGraph{3, {}}, Eigen::Matrix3d::Identity()))));
 }
 
 // --- Table II ---
@@ -258,7 +260,8 @@ TEST(UncertaintyReductionTest, HandSeries) {
 }
 
 TEST(UncertaintyReductionTest, AllNaNOrEmpty) {
-  for (const std::vector<double>& series : {std::vector<double>{kNaN, kNaN}, std::vector<double>{}}) {
+  for (const std::vector<double>& series :
+       {std::vector<double>{kNaN, kNaN}, std::vector<double>{}}) {
     const UncertaintyReduction r = ComputeUncertaintyReduction(series);
     EXPECT_TRUE(std::isnan(r.max));
     EXPECT_TRUE(std::isnan(r.min));

@@ -12,11 +12,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "common/json_text.h"
 #include "aslam/lidar_scan_t.hpp"
 #include "aslam/procman_status_t.hpp"
 #include "aslam/velocity_command_t.hpp"
 #include "common/channels.h"
+#include "common/json_text.h"
 
 namespace aslam {
 namespace {
@@ -118,7 +118,8 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
   int64_t first_us = 0;
   int64_t last_us = 0;
 
-  for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr; event = log.readNextEvent()) {
+  for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr;
+       event = log.readNextEvent()) {
     // min/max rather than first/last: the logger's wall clock may step back.
     first_us = events == 0 ? event->timestamp : std::min(first_us, event->timestamp);
     last_us = events == 0 ? event->timestamp : std::max(last_us, event->timestamp);
@@ -147,10 +148,12 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
       for (const procman_process_status_t& p : status.processes) {
         CpuAccumulator& acc = cpu_by_name[p.name];
         // A NaN from a broken deputy would poison the mean; such a sample says nothing.
-        if (p.state != procman_process_status_t::STATE_RUNNING || !std::isfinite(p.cpu_percent)) continue;
+        if (p.state != procman_process_status_t::STATE_RUNNING || !std::isfinite(p.cpu_percent))
+          continue;
         ++acc.samples;
         acc.sum_cpu_percent += p.cpu_percent;
-        acc.max_cpu_percent = acc.samples == 1 ? p.cpu_percent : std::max(acc.max_cpu_percent, p.cpu_percent);
+        acc.max_cpu_percent =
+            acc.samples == 1 ? p.cpu_percent : std::max(acc.max_cpu_percent, p.cpu_percent);
         acc.max_rss_bytes = std::max(acc.max_rss_bytes, p.rss_bytes);
       }
     }
@@ -179,13 +182,15 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
     }
   }
   // Highest mean first; processes that never ran last; ties by name so the order is reproducible.
-  std::stable_sort(stats.processes.begin(), stats.processes.end(), [](const ProcessCpu& a, const ProcessCpu& b) {
-    const bool a_ran = a.samples > 0;
-    const bool b_ran = b.samples > 0;
-    if (a_ran != b_ran) return a_ran;
-    if (a_ran && a.mean_cpu_percent != b.mean_cpu_percent) return a.mean_cpu_percent > b.mean_cpu_percent;
-    return false;  // cpu_by_name is ordered by name already
-  });
+  std::stable_sort(stats.processes.begin(), stats.processes.end(),
+                   [](const ProcessCpu& a, const ProcessCpu& b) {
+                     const bool a_ran = a.samples > 0;
+                     const bool b_ran = b.samples > 0;
+                     if (a_ran != b_ran) return a_ran;
+                     if (a_ran && a.mean_cpu_percent != b.mean_cpu_percent)
+                       return a.mean_cpu_percent > b.mean_cpu_percent;
+                     return false;  // cpu_by_name is ordered by name already
+                   });
 
   std::vector<double>& latencies_ms = matcher.latencies_ms();
   std::sort(latencies_ms.begin(), latencies_ms.end());
@@ -204,8 +209,8 @@ std::string LogStatsTable(const LogStats& stats) {
   std::size_t name_width = 7;  // "process"
   for (const ProcessCpu& p : stats.processes) name_width = std::max(name_width, p.name.size());
   const int w = static_cast<int>(name_width);
-  std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, "process", "mean CPU %", "max CPU %", "share",
-                "max RSS MiB");
+  std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, "process", "mean CPU %",
+                "max CPU %", "share", "max RSS MiB");
   out += line;
   for (const ProcessCpu& p : stats.processes) {
     std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, p.name.c_str(),
@@ -216,14 +221,17 @@ std::string LogStatsTable(const LogStats& stats) {
   if (stats.processes.empty()) {
     out += "(no PROCMAN_STATUS in the log)\n";
   } else {
-    std::snprintf(line, sizeof line, "%-*s %10s\n", w, "total", Cell(stats.total_mean_cpu_percent, "%.1f").c_str());
+    std::snprintf(line, sizeof line, "%-*s %10s\n", w, "total",
+                  Cell(stats.total_mean_cpu_percent, "%.1f").c_str());
     out += line;
   }
   const LatencyStats& l = stats.scan_to_cmd_vel;
   std::snprintf(line, sizeof line,
-                "LIDAR_SCAN -> CMD_VEL: median %s ms, p99 %s ms, max %s ms (%lld matched, %lld unmatched commands)\n",
-                Cell(l.median_ms, "%.2f").c_str(), Cell(l.p99_ms, "%.2f").c_str(), Cell(l.max_ms, "%.2f").c_str(),
-                static_cast<long long>(l.matched), static_cast<long long>(l.unmatched_commands));
+                "LIDAR_SCAN -> CMD_VEL: median %s ms, p99 %s ms, max %s ms (%lld matched, %lld "
+                "unmatched commands)\n",
+                Cell(l.median_ms, "%.2f").c_str(), Cell(l.p99_ms, "%.2f").c_str(),
+                Cell(l.max_ms, "%.2f").c_str(), static_cast<long long>(l.matched),
+                static_cast<long long>(l.unmatched_commands));
   out += line;
   std::snprintf(line, sizeof line, "log: %.1f s, %lld undecodable messages\n", stats.log_seconds,
                 static_cast<long long>(stats.undecodable));

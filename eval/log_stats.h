@@ -45,7 +45,7 @@ struct LatencyStats {
 };
 
 struct LogStats {
-  double log_seconds = 0;  // first to last event, logger time
+  double log_seconds = 0;             // first to last event, logger time
   std::vector<ProcessCpu> processes;  // highest mean CPU first; never-RUNNING ones last
   double total_mean_cpu_percent = 0;  // sum of the processes' means
   LatencyStats scan_to_cmd_vel;

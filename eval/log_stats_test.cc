@@ -30,8 +30,8 @@ class TempLogPath {
  public:
   TempLogPath() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = ::testing::TempDir() + "log_stats_" + info->test_suite_name() + "_" + info->name() + "_" +
-            std::to_string(::getpid()) + ".lcmlog";
+    path_ = ::testing::TempDir() + "log_stats_" + info->test_suite_name() + "_" + info->name() +
+            "_" + std::to_string(::getpid()) + ".lcmlog";
   }
   ~TempLogPath() { std::remove(path_.c_str()); }
   const std::string& path() const { return path_; }
@@ -50,7 +50,8 @@ class LogWriter {
   template <typename MsgT>
   void Write(const std::string& channel, int64_t logged_us, const MsgT& msg) {
     std::vector<uint8_t> bytes(msg.getEncodedSize());
-    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+              static_cast<int>(bytes.size()));
     WriteBytes(channel, logged_us, bytes);
   }
 
@@ -82,7 +83,8 @@ velocity_command_t Command(int64_t utime) {
   return command;
 }
 
-procman_process_status_t Process(const std::string& name, int8_t state, double cpu_percent, int64_t rss_bytes) {
+procman_process_status_t Process(const std::string& name, int8_t state, double cpu_percent,
+                                 int64_t rss_bytes) {
   procman_process_status_t p{};
   p.name = name;
   p.state = state;
@@ -93,7 +95,8 @@ procman_process_status_t Process(const std::string& name, int8_t state, double c
   return p;
 }
 
-procman_status_t Status(const std::string& deputy, std::vector<procman_process_status_t> processes) {
+procman_status_t Status(const std::string& deputy,
+                        std::vector<procman_process_status_t> processes) {
   procman_status_t status{};
   status.deputy = deputy;
   status.pid = 99;
@@ -109,10 +112,11 @@ TEST(NearestRankPercentile, IsTheCeilPTimesNthSmallest) {
   EXPECT_EQ(NearestRankPercentile(three, 0.5), 2.0);   // ceil(1.5) = 2nd
   EXPECT_EQ(NearestRankPercentile(three, 0.99), 3.0);  // ceil(2.97) = 3rd
   EXPECT_EQ(NearestRankPercentile(three, 1.0), 3.0);
-  EXPECT_EQ(NearestRankPercentile(three, 0.0), 1.0);   // rank 0 clamps to the smallest
+  EXPECT_EQ(NearestRankPercentile(three, 0.0), 1.0);        // rank 0 clamps to the smallest
   EXPECT_EQ(NearestRankPercentile(three, 1.0 / 3.0), 1.0);  // exactly the 1st, not rounded up
   const std::vector<double> four = {10.0, 20.0, 30.0, 40.0};
-  EXPECT_EQ(NearestRankPercentile(four, 0.5), 20.0);  // ceil(2) = 2nd: the lower middle, never an average
+  EXPECT_EQ(NearestRankPercentile(four, 0.5),
+            20.0);  // ceil(2) = 2nd: the lower middle, never an average
   EXPECT_EQ(NearestRankPercentile({7.0}, 0.99), 7.0);
   EXPECT_TRUE(std::isnan(NearestRankPercentile({}, 0.5)));
 }
@@ -127,7 +131,7 @@ TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
     for (int i = 0; i < 100; ++i) {
       const int64_t utime = 5'000'000 + i * 100'000;          // 10 Hz simulated time
       const int64_t scan_logged_us = kStartUs + i * 200'000;  // half real time: 200 ms apart
-      const int delay_ms = (i * 37) % 100 + 1;                // 37 is prime to 100: a permutation of 1..100
+      const int delay_ms = (i * 37) % 100 + 1;  // 37 is prime to 100: a permutation of 1..100
       log.Write(channels::kLidarScan, scan_logged_us, Scan(utime));
       log.Write(channels::kCmdVel, scan_logged_us + delay_ms * 1000, Command(utime));
     }
@@ -139,7 +143,8 @@ TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
   EXPECT_DOUBLE_EQ(l.median_ms, 50.0);
   EXPECT_DOUBLE_EQ(l.p99_ms, 99.0);
   EXPECT_DOUBLE_EQ(l.max_ms, 100.0);
-  // First event: scan 0 at +0; last: command 99 at +99·200 ms + (99·37 mod 100 + 1) ms = 19.8 s + 64 ms.
+  // First event: scan 0 at +0; last: command 99 at +99·200 ms + (99·37 mod 100 + 1) ms = 19.8 s +
+  // 64 ms.
   EXPECT_DOUBLE_EQ(stats.log_seconds, 19.864);
   EXPECT_EQ(stats.undecodable, 0);
   EXPECT_TRUE(stats.processes.empty());  // no PROCMAN_STATUS
@@ -151,10 +156,10 @@ TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
   {
     LogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(1'000'000));
-    log.Write(channels::kCmdVel, kStartUs + 4'000, Command(1'000'000));     // 4 ms
-    log.Write(channels::kCmdVel, kStartUs + 50'000, Command(1'050'000));    // no scan at this utime
+    log.Write(channels::kCmdVel, kStartUs + 4'000, Command(1'000'000));   // 4 ms
+    log.Write(channels::kCmdVel, kStartUs + 50'000, Command(1'050'000));  // no scan at this utime
     log.Write(channels::kLidarScan, kStartUs + 100'000, Scan(1'100'000));
-    log.Write(channels::kCmdVel, kStartUs + 106'000, Command(1'100'000));   // 6 ms
+    log.Write(channels::kCmdVel, kStartUs + 106'000, Command(1'100'000));  // 6 ms
   }
   const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 2);
@@ -187,8 +192,10 @@ TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
     LogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(100));
     log.Write(channels::kLidarScan, kStartUs + 1'000'000, Scan(200));
-    log.Write(channels::kCmdVel, kStartUs + 10'500'000, Command(100));  // 10.5 s after its scan: forgotten
-    log.Write(channels::kCmdVel, kStartUs + 10'900'000, Command(200));  // 9.9 s after its scan: kept
+    log.Write(channels::kCmdVel, kStartUs + 10'500'000,
+              Command(100));  // 10.5 s after its scan: forgotten
+    log.Write(channels::kCmdVel, kStartUs + 10'900'000,
+              Command(200));  // 9.9 s after its scan: kept
   }
   const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 1);
@@ -335,20 +342,23 @@ TEST(LogStatsJson, FixedKeysAndNullForNaN) {
   stats.processes = {slam, idle};
   stats.scan_to_cmd_vel.matched = 0;
   stats.scan_to_cmd_vel.unmatched_commands = 1;
-  EXPECT_EQ(LogStatsJson(stats),
-            "{\n"
-            "  \"log_seconds\": 12.5,\n"
-            "  \"undecodable\": 3,\n"
-            "  \"total_mean_cpu_percent\": 50,\n"
-            "  \"processes\": [\n"
-            "    {\"name\": \"aslam-slam\", \"samples\": 4, \"mean_cpu_percent\": 37.5, \"max_cpu_percent\": 90, "
-            "\"share\": 0.75, \"max_rss_mib\": 120.25},\n"
-            "    {\"name\": \"aslam-\\\"idle\\\"\", \"samples\": 0, \"mean_cpu_percent\": null, \"max_cpu_percent\": "
-            "null, \"share\": null, \"max_rss_mib\": null}\n"
-            "  ],\n"
-            "  \"scan_to_cmd_vel\": {\"matched\": 0, \"unmatched_commands\": 1, \"median_ms\": null, "
-            "\"p99_ms\": null, \"max_ms\": null}\n"
-            "}\n");
+  EXPECT_EQ(
+      LogStatsJson(stats),
+      "{\n"
+      "  \"log_seconds\": 12.5,\n"
+      "  \"undecodable\": 3,\n"
+      "  \"total_mean_cpu_percent\": 50,\n"
+      "  \"processes\": [\n"
+      "    {\"name\": \"aslam-slam\", \"samples\": 4, \"mean_cpu_percent\": 37.5, "
+      "\"max_cpu_percent\": 90, "
+      "\"share\": 0.75, \"max_rss_mib\": 120.25},\n"
+      "    {\"name\": \"aslam-\\\"idle\\\"\", \"samples\": 0, \"mean_cpu_percent\": null, "
+      "\"max_cpu_percent\": "
+      "null, \"share\": null, \"max_rss_mib\": null}\n"
+      "  ],\n"
+      "  \"scan_to_cmd_vel\": {\"matched\": 0, \"unmatched_commands\": 1, \"median_ms\": null, "
+      "\"p99_ms\": null, \"max_ms\": null}\n"
+      "}\n");
 }
 
 TEST(LogStatsJson, NoProcessesIsAnEmptyArray) {
@@ -383,7 +393,8 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
             "aslam-slam       37.5       90.0   75.0%        120.2\n"
             "aslam-nav        12.5       90.0   25.0%        120.2\n"
             "total            50.0\n"
-            "LIDAR_SCAN -> CMD_VEL: median 1.50 ms, p99 4.25 ms, max 7.00 ms (10 matched, 0 unmatched commands)\n"
+            "LIDAR_SCAN -> CMD_VEL: median 1.50 ms, p99 4.25 ms, max 7.00 ms (10 matched, 0 "
+            "unmatched commands)\n"
             "log: 61.0 s, 0 undecodable messages\n");
 
   const std::string empty = LogStatsTable(LogStats{});

@@ -41,8 +41,7 @@ std::string SizeText(const cv::Mat& image) {
 
 // Both images as CV_64FC1; throws std::invalid_argument (bad input, not a
 // broken invariant: the images may come from files) naming both sizes.
-void CheckPair(const cv::Mat& a, const cv::Mat& b, const char* what, cv::Mat* a64,
-               cv::Mat* b64) {
+void CheckPair(const cv::Mat& a, const cv::Mat& b, const char* what, cv::Mat* a64, cv::Mat* b64) {
   const std::string sizes = "first image " + SizeText(a) + ", second " + SizeText(b);
   if (a.size() != b.size()) {
     throw std::invalid_argument(std::string(what) + ": images differ in size (" + sizes + ")");
@@ -96,8 +95,8 @@ double GreySsim(const cv::Mat& a, const cv::Mat& b) {
   CheckPair(a, b, "GreySsim", &a64, &b64);
   // CV_64F input stays CV_64F inside QualitySSIM (quality_utils::expand_mat),
   // so identical images give exactly 1.
-  const cv::Scalar ssim = cv::quality::QualitySSIM::compute(
-      a64 * kSsimDynamicRange, b64 * kSsimDynamicRange, cv::noArray());
+  const cv::Scalar ssim = cv::quality::QualitySSIM::compute(a64 * kSsimDynamicRange,
+                                                            b64 * kSsimDynamicRange, cv::noArray());
   return ssim[0];
 }
 

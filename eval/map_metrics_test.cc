@@ -131,14 +131,15 @@ TEST(GreyRmseTest, FreeVersusUnknownCellsDifferBy50Of255) {
   slam.at({3, 1}) = OccupancyGrid::kUnknown;
   slam.at({4, 6}) = 40;
   slam.at({7, 2}) = 50;
-  EXPECT_NEAR(GreyRmse(MapToGrey(slam), MapToGrey(truth)),
-              50.0 / 255.0 * std::sqrt(5.0 / 80.0), 1e-12);
+  EXPECT_NEAR(GreyRmse(MapToGrey(slam), MapToGrey(truth)), 50.0 / 255.0 * std::sqrt(5.0 / 80.0),
+              1e-12);
 }
 
 TEST(GreyMetricsTest, MismatchedSizesThrowNamingBothSizes) {
   const cv::Mat a(8, 10, CV_64FC1, cv::Scalar(1.0));  // 10 wide, 8 high
   const cv::Mat b(8, 12, CV_64FC1, cv::Scalar(1.0));  // 12 wide, 8 high
-  for (const std::string& message : {ThrownMessage(&GreySsim, a, b), ThrownMessage(&GreyRmse, a, b)}) {
+  for (const std::string& message :
+       {ThrownMessage(&GreySsim, a, b), ThrownMessage(&GreyRmse, a, b)}) {
     EXPECT_NE(message.find("10x8"), std::string::npos) << message;
     EXPECT_NE(message.find("12x8"), std::string::npos) << message;
   }
@@ -244,15 +245,16 @@ TEST(CompareMapToTruthTest, BlankMapScoresTheUnknownLuminanceTerm) {
   const OccupancyGrid truth(20, 10, 0.1, {0.0, 0.0}, OccupancyGrid::kFree);
   const MapQuality quality = CompareMapToTruth(OccupancyGrid(), Pose2d(), truth);
   EXPECT_NEAR(quality.rmse, 50.0 / 255.0, 1e-12);
-  EXPECT_NEAR(quality.ssim,
-              (2.0 * kUnknownGrey + kC1) / (1.0 + kUnknownGrey * kUnknownGrey + kC1), 1e-9);
+  EXPECT_NEAR(quality.ssim, (2.0 * kUnknownGrey + kC1) / (1.0 + kUnknownGrey * kUnknownGrey + kC1),
+              1e-9);
 }
 
 // Coverage (docs/architecture.md §6, ComputeMapAgreement): a SLAM map over the left 10 of
 // 20 free columns, shifted by map_in_world, knows exactly half the free truth.
 TEST(CoverageTest, KnownPartialOverlap) {
   OccupancyGrid truth(20, 10, 0.1, {0.0, 0.0}, OccupancyGrid::kFree);
-  for (int col = 0; col < 20; ++col) truth.at({col, 9}) = OccupancyGrid::kOccupied;  // a wall row: not free area
+  for (int col = 0; col < 20; ++col)
+    truth.at({col, 9}) = OccupancyGrid::kOccupied;  // a wall row: not free area
   const OccupancyGrid slam(10, 10, 0.1, {-0.5, 0.0}, OccupancyGrid::kFree);
   const MapAgreement a = ComputeMapAgreement(slam, Pose2d{0.5, 0.0, 0.0}, truth);
   EXPECT_EQ(a.truth_free_cells, 20 * 9);

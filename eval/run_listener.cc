@@ -38,7 +38,8 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
   subscriptions_.Add<pose_t>(channels::kSimTruth, [this](const pose_t& m) {
     const auto pose = FromLcm(m);
     if (!pose) return false;
-    if (truth_.empty() || pose->utime > truth_.back().utime) truth_.push_back({pose->utime, pose->pose});
+    if (truth_.empty() || pose->utime > truth_.back().utime)
+      truth_.push_back({pose->utime, pose->pose});
     Heard(pose->utime);
     return true;
   });
@@ -62,7 +63,8 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
     const PoseGraphNode& anchor = graph_.nodes.back();
     const Pose2d offset = anchor.pose.Between(pose->pose);
     if (!path_.empty() && path_.back().node == anchor.id &&
-        std::hypot(offset.x_m - path_.back().offset.x_m, offset.y_m - path_.back().offset.y_m) < 0.05) {
+        std::hypot(offset.x_m - path_.back().offset.x_m, offset.y_m - path_.back().offset.y_m) <
+            0.05) {
       return true;  // 5 cm apart is plenty for a drawing
     }
     path_.push_back({anchor.id, offset});
@@ -168,7 +170,8 @@ ExploreProgress RunListener::Progress(double sim_s, double wall_s) {
 Pose2d ResolveStart(const WorldInfo& world, const ExploreOptions& options) {
   if (!options.start) {
     if (!world.has_start) {
-      throw std::invalid_argument(options.world + " has no world.yaml with a start: pass --start X,Y,YAW");
+      throw std::invalid_argument(options.world +
+                                  " has no world.yaml with a start: pass --start X,Y,YAW");
     }
     return world.start;
   }
@@ -184,13 +187,17 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
                   const std::string& method, double sim_s, double wall_s, ExploreResult* result) {
   if (const auto map_in_world = listener.MapInWorld()) result->map_in_world = *map_in_world;
   const MapAgreement agreement = listener.Agreement(result->map);
-  if (!result->coverage.empty() && result->coverage.back().t_s >= sim_s) result->coverage.pop_back();
+  if (!result->coverage.empty() && result->coverage.back().t_s >= sim_s)
+    result->coverage.pop_back();
   result->coverage.push_back({sim_s, agreement.coverage});
-  const double final_d_opt = result->graph.edges.empty() ? std::nan("") : MeanEdgeDOptimality(result->graph);
-  if (!result->uncertainty.empty() && result->uncertainty.back().t_s >= sim_s) result->uncertainty.pop_back();
+  const double final_d_opt =
+      result->graph.edges.empty() ? std::nan("") : MeanEdgeDOptimality(result->graph);
+  if (!result->uncertainty.empty() && result->uncertainty.back().t_s >= sim_s)
+    result->uncertainty.pop_back();
   result->uncertainty.push_back({sim_s, final_d_opt});
   result->slam_path = listener.Path(result->graph);
-  for (const Frontier& f : listener.frontiers().frontiers) result->frontiers_m.push_back(f.points_m);
+  for (const Frontier& f : listener.frontiers().frontiers)
+    result->frontiers_m.push_back(f.points_m);
 
   RunMetrics& m = result->metrics;
   m.world = options.world;
@@ -210,7 +217,8 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
   m.ate_matched = ate.matched;
   m.keyframes = static_cast<int>(result->graph.nodes.size());
   m.loop_closures = 0;
-  for (const PoseGraphEdge& e : result->graph.edges) m.loop_closures += e.kind == EdgeKind::kLoopClosure;
+  for (const PoseGraphEdge& e : result->graph.edges)
+    m.loop_closures += e.kind == EdgeKind::kLoopClosure;
   m.done = listener.done();
   m.time_to_90_coverage_s = TimeToCoverage(result->coverage, 0.9);
 

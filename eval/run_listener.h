@@ -16,10 +16,10 @@
 #include "common/lcm_util.h"
 #include "common/occupancy_grid.h"
 #include "common/pose_graph.h"
-#include "eval/explore_runner.h"
-#include "frontier/frontier.h"
-#include "eval/trajectory_metrics.h"
 #include "common/world_file.h"
+#include "eval/explore_runner.h"
+#include "eval/trajectory_metrics.h"
+#include "frontier/frontier.h"
 
 namespace aslam {
 

@@ -157,18 +157,19 @@ cv::Mat RenderRunImage(const ExploreResult& result, int scale) {
   }
   for (const auto& frontier : result.frontiers_m) {
     for (const Point2d& p : frontier) {
-      cv::circle(image, pixel(p.x_m, p.y_m), (thin + 1) << kShift, cv::Scalar(40, 170, 40), cv::FILLED,
-                 cv::LINE_AA, kShift);
+      cv::circle(image, pixel(p.x_m, p.y_m), (thin + 1) << kShift, cv::Scalar(40, 170, 40),
+                 cv::FILLED, cv::LINE_AA, kShift);
     }
   }
   if (!result.slam_path.empty() || !nodes.empty()) {
     const Pose2d& end = result.slam_path.empty() ? nodes.back().pose : result.slam_path.back();
     const double arrow_m = 0.5;
-    cv::circle(image, pixel(end.x_m, end.y_m), (3 * scale) << kShift, cv::Scalar(0, 140, 255), cv::FILLED,
-               cv::LINE_AA, kShift);
-    cv::line(image, pixel(end.x_m, end.y_m),
-             pixel(end.x_m + arrow_m * std::cos(end.yaw_rad), end.y_m + arrow_m * std::sin(end.yaw_rad)),
-             cv::Scalar(0, 140, 255), thin + 1, cv::LINE_AA, kShift);
+    cv::circle(image, pixel(end.x_m, end.y_m), (3 * scale) << kShift, cv::Scalar(0, 140, 255),
+               cv::FILLED, cv::LINE_AA, kShift);
+    cv::line(
+        image, pixel(end.x_m, end.y_m),
+        pixel(end.x_m + arrow_m * std::cos(end.yaw_rad), end.y_m + arrow_m * std::sin(end.yaw_rad)),
+        cv::Scalar(0, 140, 255), thin + 1, cv::LINE_AA, kShift);
   }
   return image;
 }

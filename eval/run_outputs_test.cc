@@ -102,7 +102,8 @@ ExploreResult SmallResult() {
   for (int col = 5; col < 35; ++col) {
     for (int row = 5; row < 15; ++row) r.map.at({col, row}) = col == 34 ? 100 : 0;
   }
-  r.graph.nodes = {{0, 100000, {0.0, 0.0, 0.0}}, {1, 200000, {0.3, 0.0, 0.0}}, {2, 300000, {0.6, 0.1, 0.0}}};
+  r.graph.nodes = {
+      {0, 100000, {0.0, 0.0, 0.0}}, {1, 200000, {0.3, 0.0, 0.0}}, {2, 300000, {0.6, 0.1, 0.0}}};
   PoseGraphEdge e01{0, 1, EdgeKind::kOdometry, {0.3, 0.0, 0.0}};
   PoseGraphEdge e12{1, 2, EdgeKind::kOdometry, {0.3, 0.1, 0.0}};
   PoseGraphEdge e02{0, 2, EdgeKind::kLoopClosure, {0.6, 0.1, 0.0}};
@@ -137,7 +138,8 @@ TEST(RunFolderTest, WritesEveryFileReadableByItsReader) {
   std::filesystem::remove_all(dir);
   const ExploreResult r = SmallResult();
   WriteRunFolder(r, dir);
-  for (const char* f : {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
+  for (const char* f :
+       {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
   const LoadedMap map = LoadMap(dir + "/map.yaml");

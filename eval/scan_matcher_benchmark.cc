@@ -9,10 +9,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/world_file.h"
 #include "drivers/sim/lidar.h"
 #include "drivers/sim/sim_world.h"
 #include "slam/scan_matcher.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {

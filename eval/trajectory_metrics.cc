@@ -44,9 +44,9 @@ std::vector<TimedPose> KeyframePoses(const PoseGraph& graph) {
 std::optional<Pose2d> PoseAt(const std::vector<TimedPose>& samples, int64_t utime,
                              int64_t max_gap_us) {
   if (samples.empty()) return std::nullopt;
-  const auto after = std::lower_bound(
-      samples.begin(), samples.end(), utime,
-      [](const TimedPose& sample, int64_t t) { return sample.utime < t; });
+  const auto after =
+      std::lower_bound(samples.begin(), samples.end(), utime,
+                       [](const TimedPose& sample, int64_t t) { return sample.utime < t; });
   if (after != samples.end() && after->utime == utime) return after->pose;
   const bool has_after = after != samples.end() && after->utime - utime <= max_gap_us;
   const bool has_before = after != samples.begin() && utime - std::prev(after)->utime <= max_gap_us;
@@ -85,8 +85,7 @@ AteResult ComputeAte(const std::vector<TimedPose>& estimate, const std::vector<T
     }
     if (!truth_anchor) truth_anchor = *t;
     const Pose2d truth_in_map = truth_anchor->Between(*t);
-    const double error_m =
-        std::hypot(e.pose.x_m - truth_in_map.x_m, e.pose.y_m - truth_in_map.y_m);
+    const double error_m = std::hypot(e.pose.x_m - truth_in_map.x_m, e.pose.y_m - truth_in_map.y_m);
     const double error_rad = std::abs(WrapAngle(e.pose.yaw_rad - truth_in_map.yaw_rad));
     ++result.matched;
     result.errors_m.push_back(error_m);
@@ -107,7 +106,8 @@ AteResult ComputeAte(const std::vector<TimedPose>& estimate, const std::vector<T
   return result;
 }
 
-Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world, const OccupancyGrid& truth) {
+Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world,
+                         const OccupancyGrid& truth) {
   Coverage result;
   // Pose2d::Transform, CellCenter and WorldToCell written out with the
   // rotation computed once: the same arithmetic, so the same cells, without

@@ -43,8 +43,8 @@ struct AteOptions {
 };
 
 struct AteResult {
-  int matched = 0;    // estimates with a truth pose
-  int unmatched = 0;  // estimates without one (not in the statistics)
+  int matched = 0;      // estimates with a truth pose
+  int unmatched = 0;    // estimates without one (not in the statistics)
   double rmse_m = 0.0;  // translation error
   double mean_m = 0.0;
   double max_m = 0.0;
@@ -81,10 +81,10 @@ struct MapAgreement {
   double occupied_precision = 0.0;  // occupied_near_wall / slam_occupied_cells (0 if none)
   int64_t slam_free_cells = 0;
   int64_t free_truly_free = 0;
-  double free_precision = 0.0;      // free_truly_free / slam_free_cells (0 if none)
+  double free_precision = 0.0;  // free_truly_free / slam_free_cells (0 if none)
   int64_t truth_free_cells = 0;
-  int64_t truth_free_known = 0;     // truly free cells the SLAM map marks known (any value)
-  double coverage = 0.0;            // truth_free_known / truth_free_cells (docs/architecture.md §6)
+  int64_t truth_free_known = 0;  // truly free cells the SLAM map marks known (any value)
+  double coverage = 0.0;         // truth_free_known / truth_free_cells (docs/architecture.md §6)
 };
 
 // Coverage alone (docs/architecture.md §6): the share of truly free cells that `slam_map`,
@@ -95,7 +95,8 @@ struct Coverage {
   int64_t truth_free_known = 0;
   double fraction = 0.0;  // truth_free_known / truth_free_cells (0 if none)
 };
-Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world, const OccupancyGrid& truth);
+Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world,
+                         const OccupancyGrid& truth);
 
 // Compares `slam_map` (in "map") with `truth` (in "world"), the SLAM map
 // placed in the world by `map_in_world` (the true pose of the first

@@ -17,13 +17,13 @@ struct Frontier {
   std::vector<CellIndex> cells;   // cells of the segment in the map it came from
   std::vector<Point2d> points_m;  // their centres, "map"
   Point2d centroid_m;
-  Point2d target_m;               // reachable free cell near the centroid: the goal candidate
+  Point2d target_m;  // reachable free cell near the centroid: the goal candidate
   int size_cells() const { return static_cast<int>(points_m.size()); }
 };
 
 struct FrontierList {
   int64_t utime = 0;
-  int64_t map_revision = 0;       // revision of the SLAM_MAP they were extracted from
+  int64_t map_revision = 0;  // revision of the SLAM_MAP they were extracted from
   std::vector<Frontier> frontiers;
 };
 

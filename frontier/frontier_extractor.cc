@@ -219,8 +219,8 @@ void FrontierOptions::Validate() const {
 }
 
 std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
-                                    const FrontierOptions& options,
-                                    FrontierExtractionStats* stats, FrontierScratch* scratch) {
+                                    const FrontierOptions& options, FrontierExtractionStats* stats,
+                                    FrontierScratch* scratch) {
   FrontierExtractionStats local_stats;
   FrontierExtractionStats& s = stats ? *stats : local_stats;
   FrontierScratch local_scratch;

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "common/world_file.h"
 #include "navigation/costmap.h"
 #include "navigation/global_planner.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {

@@ -180,8 +180,8 @@ bool SameOptions(const CostmapOptions& a, const CostmapOptions& b) {
   return a.robot_radius_m == b.robot_radius_m && a.clearance_margin_m == b.clearance_margin_m &&
          a.inflation_margin_m == b.inflation_margin_m &&
          a.cost_scaling_per_m == b.cost_scaling_per_m &&
-         a.occupied_threshold == b.occupied_threshold &&
-         a.unknown_passable == b.unknown_passable && a.unknown_cost == b.unknown_cost;
+         a.occupied_threshold == b.occupied_threshold && a.unknown_passable == b.unknown_passable &&
+         a.unknown_cost == b.unknown_cost;
 }
 
 }  // namespace
@@ -234,8 +234,7 @@ bool Costmap::GrowInto(const OccupancyGrid& map, std::vector<Box>* boxes) {
   return true;
 }
 
-void Costmap::RecomputeBox(const OccupancyGrid& map, const Box& box, int band,
-                           CostFunction& cost) {
+void Costmap::RecomputeBox(const OccupancyGrid& map, const Box& box, int band, CostFunction& cost) {
   const Box window{std::max(box.col0 - band, 0), std::max(box.row0 - band, 0),
                    std::min(box.col1 + band, width_cells_),
                    std::min(box.row1 + band, height_cells_)};
@@ -280,8 +279,7 @@ void Costmap::RecomputeBox(const OccupancyGrid& map, const Box& box, int band,
   for (int row = box.row0; row < box.row1; ++row) {
     const std::size_t begin = static_cast<std::size_t>(row) * width_cells_;
     const float* d_cells = window_distance.data() +
-                           static_cast<std::size_t>(row - window.row0) * window_width -
-                           window.col0;
+                           static_cast<std::size_t>(row - window.row0) * window_width - window.col0;
     for (int col = box.col0; col < box.col1; ++col) {
       const std::size_t i = begin + col;
       const uint8_t value = cost.FromCells(d_cells[col], &obstacle_distance_m_[i]);
@@ -305,10 +303,9 @@ Costmap::UpdateKind Costmap::Update(const OccupancyGrid& map, const CostmapOptio
     return UpdateKind::kFull;
   }
   std::vector<Box> boxes;
-  const bool same_geometry = map.width_cells() == width_cells_ &&
-                             map.height_cells() == height_cells_ &&
-                             map.origin_m().x_m == origin_m_.x_m &&
-                             map.origin_m().y_m == origin_m_.y_m;
+  const bool same_geometry =
+      map.width_cells() == width_cells_ && map.height_cells() == height_cells_ &&
+      map.origin_m().x_m == origin_m_.x_m && map.origin_m().y_m == origin_m_.y_m;
   if (!same_geometry && !GrowInto(map, &boxes)) {
     Rebuild(map, options);
     return UpdateKind::kFull;

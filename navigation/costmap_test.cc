@@ -379,19 +379,13 @@ TEST(CostmapUpdateTest, RandomEditSequencesMatchFreshCostmaps) {
           if (step % 3 == 0) RandomEdit(rng, &grid, options.occupied_threshold, &what);
         }
         switch (costmap.Update(grid, options)) {
-          case Costmap::UpdateKind::kIncremental:
-            ++incremental;
-            break;
-          case Costmap::UpdateKind::kFull:
-            ++full;
-            break;
-          case Costmap::UpdateKind::kUnchanged:
-            ++unchanged;
-            break;
+          case Costmap::UpdateKind::kIncremental: ++incremental; break;
+          case Costmap::UpdateKind::kFull: ++full; break;
+          case Costmap::UpdateKind::kUnchanged: ++unchanged; break;
         }
         ExpectSameAsFresh(costmap, grid, options,
-                          "set " + std::to_string(set) + " run " + std::to_string(run) +
-                              " step " + std::to_string(step) + " after " + what);
+                          "set " + std::to_string(set) + " run " + std::to_string(run) + " step " +
+                              std::to_string(step) + " after " + what);
         if (HasFatalFailure()) return;
       }
     }
@@ -413,8 +407,8 @@ TEST(CostmapUpdateTest, LargeMapLocalEditsMatchFreshCostmaps) {
     const CellIndex start{col_of(rng), row_of(rng)};
     const bool horizontal = wall % 2 == 0;
     for (int i = 0; i < 400; ++i) {
-      const CellIndex cell = horizontal ? CellIndex{start.col + i, start.row}
-                                        : CellIndex{start.col, start.row + i};
+      const CellIndex cell =
+          horizontal ? CellIndex{start.col + i, start.row} : CellIndex{start.col, start.row + i};
       if (grid.Contains(cell)) grid.at(cell) = OccupancyGrid::kOccupied;
     }
   }
@@ -507,9 +501,8 @@ TEST(CostmapUpdateTest, GrownMapIsIncrementalAndMatchesFresh) {
       const int left = std::uniform_int_distribution<int>(0, 1)(rng) * 40;
       const int bottom = std::uniform_int_distribution<int>(0, 1)(rng) * 40;
       const int right = std::uniform_int_distribution<int>(0, 1)(rng) * 40;
-      const int top = (left + bottom + right == 0)
-                          ? 40
-                          : std::uniform_int_distribution<int>(0, 1)(rng) * 40;
+      const int top =
+          (left + bottom + right == 0) ? 40 : std::uniform_int_distribution<int>(0, 1)(rng) * 40;
       OccupancyGrid grown(grid.width_cells() + left + right, grid.height_cells() + bottom + top,
                           kRes,
                           {grid.origin_m().x_m - left * kRes, grid.origin_m().y_m - bottom * kRes});

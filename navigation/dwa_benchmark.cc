@@ -10,13 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "common/world_file.h"
 #include "navigation/dwa_planner.h"
 #include "navigation/local_obstacles.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
-
 
 bool Solid(const OccupancyGrid& grid, const Point2d& p) {
   return grid.ValueOr(grid.WorldToCell(p), OccupancyGrid::kUnknown) >= 65;

@@ -23,22 +23,22 @@ namespace aslam {
 
 struct DwaOptions {
   double max_linear_mps = 0.5;
-  double min_linear_mps = 0.0;        // no reversing in normal driving
+  double min_linear_mps = 0.0;  // no reversing in normal driving
   double max_angular_radps = 1.8;
   double max_linear_accel_mps2 = 1.0;
   double max_angular_accel_radps2 = 3.0;
-  double control_period_s = 0.1;      // one command per scan
+  double control_period_s = 0.1;  // one command per scan
   double horizon_s = 2.0;
   double rollout_step_s = 0.1;
   int linear_samples = 11;
   int angular_samples = 21;
   double robot_radius_m = 0.20;
-  double safety_margin_m = 0.05;      // a rollout closer than radius + margin collides
+  double safety_margin_m = 0.05;  // a rollout closer than radius + margin collides
   double weight_path_alignment = 1.0;
   double weight_goal_heading = 0.8;
   double weight_clearance = 0.4;
   double weight_speed = 0.3;
-  double clearance_cap_m = 1.0;       // clearance beyond this scores the same
+  double clearance_cap_m = 1.0;  // clearance beyond this scores the same
   // Goal heading aims at the path point this far (along the path) past the
   // point nearest the robot, or the goal if nearer; keep it beyond
   // max_linear_mps * horizon_s so rollouts do not overshoot it.
@@ -53,24 +53,23 @@ struct DwaOptions {
   void Validate() const;
 };
 
-
 struct DwaVelocity {
   double linear_mps = 0.0;
   double angular_radps = 0.0;
 };
 
 struct DwaResult {
-  bool found = false;               // false: every sampled trajectory collides
+  bool found = false;  // false: every sampled trajectory collides
   // `command` slows v and w together, braking along the current arc, and
   // that is free: every sample collided (the horizon slid onto an obstacle;
   // not stuck, so no reason for recovery) or the path is empty.
   bool braking = false;
   // found: the best command; else the window's velocity nearest (0, 0) (brake).
   DwaVelocity command;
-  double score = 0.0;               // weighted normalised cost of the command; lower is better
+  double score = 0.0;  // weighted normalised cost of the command; lower is better
   int trajectories_evaluated = 0;
   int trajectories_colliding = 0;
-  std::vector<Pose2d> best_rollout; // for viewers and tests; when braking, the braking path
+  std::vector<Pose2d> best_rollout;  // for viewers and tests; when braking, the braking path
 };
 
 class DwaPlanner {

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <string>
 
+#include "common/world_file.h"
 #include "navigation/costmap.h"
 #include "navigation/global_planner.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {

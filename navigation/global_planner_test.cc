@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "navigation/costmap.h"
 #include "common/world_file.h"
+#include "navigation/costmap.h"
 
 namespace aslam {
 namespace {

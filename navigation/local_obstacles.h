@@ -16,9 +16,9 @@
 namespace aslam {
 
 struct LocalObstaclesOptions {
-  double window_m = 8.0;          // side of the square window centred on the robot
+  double window_m = 8.0;  // side of the square window centred on the robot
   double resolution_m = 0.05;
-  int occupied_threshold = 65;    // map cells >= this are obstacles
+  int occupied_threshold = 65;  // map cells >= this are obstacles
 
   // Throws std::invalid_argument naming the option and its value.
   void Validate() const;

@@ -26,32 +26,16 @@ nav_status_t ToLcm(const NavStatus& status) {
   msg.utime = status.utime;
   msg.goal_id = status.goal_id;
   switch (status.state) {
-    case NavState::kIdle:
-      msg.state = nav_status_t::STATE_IDLE;
-      break;
-    case NavState::kActive:
-      msg.state = nav_status_t::STATE_ACTIVE;
-      break;
-    case NavState::kReached:
-      msg.state = nav_status_t::STATE_REACHED;
-      break;
-    case NavState::kFailed:
-      msg.state = nav_status_t::STATE_FAILED;
-      break;
-    case NavState::kUnreachable:
-      msg.state = nav_status_t::STATE_UNREACHABLE;
-      break;
+    case NavState::kIdle: msg.state = nav_status_t::STATE_IDLE; break;
+    case NavState::kActive: msg.state = nav_status_t::STATE_ACTIVE; break;
+    case NavState::kReached: msg.state = nav_status_t::STATE_REACHED; break;
+    case NavState::kFailed: msg.state = nav_status_t::STATE_FAILED; break;
+    case NavState::kUnreachable: msg.state = nav_status_t::STATE_UNREACHABLE; break;
   }
   switch (status.recovery) {
-    case RecoveryPhase::kNone:
-      msg.recovery = nav_status_t::RECOVERY_NONE;
-      break;
-    case RecoveryPhase::kRotate:
-      msg.recovery = nav_status_t::RECOVERY_ROTATE;
-      break;
-    case RecoveryPhase::kBackOff:
-      msg.recovery = nav_status_t::RECOVERY_BACK_OFF;
-      break;
+    case RecoveryPhase::kNone: msg.recovery = nav_status_t::RECOVERY_NONE; break;
+    case RecoveryPhase::kRotate: msg.recovery = nav_status_t::RECOVERY_ROTATE; break;
+    case RecoveryPhase::kBackOff: msg.recovery = nav_status_t::RECOVERY_BACK_OFF; break;
   }
   msg.goal_x_m = status.goal_m.x_m;
   msg.goal_y_m = status.goal_m.y_m;
@@ -66,36 +50,18 @@ std::optional<NavStatus> FromLcm(const nav_status_t& msg) {
   status.utime = msg.utime;
   status.goal_id = msg.goal_id;
   switch (msg.state) {
-    case nav_status_t::STATE_IDLE:
-      status.state = NavState::kIdle;
-      break;
-    case nav_status_t::STATE_ACTIVE:
-      status.state = NavState::kActive;
-      break;
-    case nav_status_t::STATE_REACHED:
-      status.state = NavState::kReached;
-      break;
-    case nav_status_t::STATE_FAILED:
-      status.state = NavState::kFailed;
-      break;
-    case nav_status_t::STATE_UNREACHABLE:
-      status.state = NavState::kUnreachable;
-      break;
-    default:
-      return std::nullopt;
+    case nav_status_t::STATE_IDLE: status.state = NavState::kIdle; break;
+    case nav_status_t::STATE_ACTIVE: status.state = NavState::kActive; break;
+    case nav_status_t::STATE_REACHED: status.state = NavState::kReached; break;
+    case nav_status_t::STATE_FAILED: status.state = NavState::kFailed; break;
+    case nav_status_t::STATE_UNREACHABLE: status.state = NavState::kUnreachable; break;
+    default: return std::nullopt;
   }
   switch (msg.recovery) {
-    case nav_status_t::RECOVERY_NONE:
-      status.recovery = RecoveryPhase::kNone;
-      break;
-    case nav_status_t::RECOVERY_ROTATE:
-      status.recovery = RecoveryPhase::kRotate;
-      break;
-    case nav_status_t::RECOVERY_BACK_OFF:
-      status.recovery = RecoveryPhase::kBackOff;
-      break;
-    default:
-      return std::nullopt;
+    case nav_status_t::RECOVERY_NONE: status.recovery = RecoveryPhase::kNone; break;
+    case nav_status_t::RECOVERY_ROTATE: status.recovery = RecoveryPhase::kRotate; break;
+    case nav_status_t::RECOVERY_BACK_OFF: status.recovery = RecoveryPhase::kBackOff; break;
+    default: return std::nullopt;
   }
   if (!std::isfinite(msg.goal_x_m) || !std::isfinite(msg.goal_y_m) ||
       !std::isfinite(msg.distance_remaining_m)) {

@@ -19,28 +19,20 @@ int64_t Micros(double seconds) { return static_cast<int64_t>(std::llround(second
 
 const char* NavStateName(NavState state) {
   switch (state) {
-    case NavState::kIdle:
-      return "idle";
-    case NavState::kActive:
-      return "active";
-    case NavState::kReached:
-      return "reached";
-    case NavState::kFailed:
-      return "failed";
-    case NavState::kUnreachable:
-      return "unreachable";
+    case NavState::kIdle: return "idle";
+    case NavState::kActive: return "active";
+    case NavState::kReached: return "reached";
+    case NavState::kFailed: return "failed";
+    case NavState::kUnreachable: return "unreachable";
   }
   return "?";
 }
 
 const char* RecoveryPhaseName(RecoveryPhase phase) {
   switch (phase) {
-    case RecoveryPhase::kNone:
-      return "none";
-    case RecoveryPhase::kRotate:
-      return "rotate";
-    case RecoveryPhase::kBackOff:
-      return "back_off";
+    case RecoveryPhase::kNone: return "none";
+    case RecoveryPhase::kRotate: return "rotate";
+    case RecoveryPhase::kBackOff: return "back_off";
   }
   return "?";
 }

@@ -63,8 +63,7 @@ void WriteG2o(const PoseGraph& graph, const std::string& path) {
     const Eigen::Matrix3d& I = edge.information;
     out << "EDGE_SE2 " << edge.from_id << ' ' << edge.to_id << ' ' << edge.measurement.x_m << ' '
         << edge.measurement.y_m << ' ' << edge.measurement.yaw_rad << ' ' << I(0, 0) << ' '
-        << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2)
-        << '\n';
+        << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2) << '\n';
   }
   out.close();
   if (!out) throw std::runtime_error(path + ": write failed");
@@ -105,8 +104,8 @@ PoseGraph ReadG2o(const std::string& path) {
         Fail(path, line, "information matrix is not positive definite");
       }
       // The format has no edge kind: odometry links consecutive keyframes.
-      edge.kind = std::abs(edge.to_id - edge.from_id) == 1 ? EdgeKind::kOdometry
-                                                           : EdgeKind::kLoopClosure;
+      edge.kind =
+          std::abs(edge.to_id - edge.from_id) == 1 ? EdgeKind::kOdometry : EdgeKind::kLoopClosure;
       edges.emplace_back(line, edge);
     } else if (tag == "FIX") {
       continue;  // g2o's gauge hint; we always fix the first node

@@ -10,7 +10,9 @@
 namespace aslam {
 namespace {
 
-std::string TempPath(const std::string& name) { return testing::TempDir() + "/g2o_io_test_" + name; }
+std::string TempPath(const std::string& name) {
+  return testing::TempDir() + "/g2o_io_test_" + name;
+}
 
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path);

@@ -34,8 +34,8 @@ OccupancyMapper::OccupancyMapper(OccupancyMapperOptions options) : options_(std:
   Require(o.log_odds_min < 0.0, "log_odds_min", o.log_odds_min);
   Require(o.log_odds_max > 0.0 && std::isfinite(o.log_odds_max), "log_odds_max", o.log_odds_max);
   Require(std::isfinite(o.log_odds_min), "log_odds_min", o.log_odds_min);
-  Require(o.no_return_clear_m >= 0.0 && o.no_return_clear_m <= kMaxBeamLengthM,
-          "no_return_clear_m", o.no_return_clear_m);
+  Require(o.no_return_clear_m >= 0.0 && o.no_return_clear_m <= kMaxBeamLengthM, "no_return_clear_m",
+          o.no_return_clear_m);
   Require(o.growth_margin_m >= 0.0 && o.growth_margin_m <= kMaxBeamLengthM, "growth_margin_m",
           o.growth_margin_m);
   Require(o.free_threshold > 0.0 && o.free_threshold < 0.5, "free_threshold", o.free_threshold);
@@ -118,8 +118,10 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
       continue;
     }
     const double angle = sensor.yaw_rad + scan.BeamAngle(i);
-    const int col = static_cast<int>(std::floor((sensor.x_m + length_m * std::cos(angle)) * inv_res));
-    const int row = static_cast<int>(std::floor((sensor.y_m + length_m * std::sin(angle)) * inv_res));
+    const int col =
+        static_cast<int>(std::floor((sensor.x_m + length_m * std::cos(angle)) * inv_res));
+    const int row =
+        static_cast<int>(std::floor((sensor.y_m + length_m * std::sin(angle)) * inv_res));
     beam_ends_.push_back({col, row, hit});
     min_col = std::min(min_col, col);
     max_col = std::max(max_col, col);

@@ -15,16 +15,17 @@ namespace aslam {
 
 struct OccupancyMapperOptions {
   double resolution_m = 0.05;
-  double log_odds_hit = 0.85;     // added at a beam's end cell
-  double log_odds_miss = -0.4;    // added to every cell the beam passes
-  double log_odds_min = -2.0;     // clamps keep the map able to change
+  double log_odds_hit = 0.85;   // added at a beam's end cell
+  double log_odds_miss = -0.4;  // added to every cell the beam passes
+  double log_odds_min = -2.0;   // clamps keep the map able to change
   double log_odds_max = 3.5;
   // A beam with no return clears this far (0: no-return beams are ignored).
   double no_return_clear_m = 0.0;
-  double growth_margin_m = 2.0;   // extra border added whenever the grid grows
+  double growth_margin_m = 2.0;  // extra border added whenever the grid grows
   // Rendering: p <= free_threshold reads 0 (free), p >= occupied_threshold 100
   // (occupied), anything between round(100 p), so consumers see clean free space.
-  double free_threshold = 0.45;  // one miss (p = 0.40) already reads free: a first scan shows free space
+  double free_threshold =
+      0.45;  // one miss (p = 0.40) already reads free: a first scan shows free space
   double occupied_threshold = 0.65;
 };
 
@@ -74,7 +75,7 @@ class OccupancyMapper {
   std::vector<Cell> cells_;  // row-major; side by side, one cache line per visit
   uint32_t scan_stamp_ = 0;
   bool empty_ = true;
-  std::vector<BeamEnd> beam_ends_;       // scratch for InsertScan
+  std::vector<BeamEnd> beam_ends_;  // scratch for InsertScan
 };
 
 }  // namespace aslam

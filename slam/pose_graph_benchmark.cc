@@ -29,7 +29,7 @@ Eigen::Matrix3d Information(double sigma_xy_m, double sigma_yaw_rad) {
 }
 
 struct SyntheticGraph {
-  PoseGraph odometry_only;          // initial guess by dead reckoning, no closures
+  PoseGraph odometry_only;                   // initial guess by dead reckoning, no closures
   std::vector<PoseGraphEdge> loop_closures;  // ordered by their newer node
 };
 
@@ -41,8 +41,8 @@ SyntheticGraph MakeGraph() {
   double angle = 0.0;
   for (int i = 0; i < kNodes; ++i) {
     const double radius_m = 8.0 + 2.0 * std::sin(0.37 * angle);
-    truth.push_back({radius_m * std::cos(angle), radius_m * std::sin(angle),
-                     WrapAngle(angle + M_PI / 2)});
+    truth.push_back(
+        {radius_m * std::cos(angle), radius_m * std::sin(angle), WrapAngle(angle + M_PI / 2)});
     angle += kStepM / radius_m;
   }
   SyntheticGraph out;
@@ -150,9 +150,9 @@ struct Segment {
 // A 20 m x 14 m office: outer walls, two partitions with doorways, a pillar.
 const std::vector<Segment>& Walls() {
   static const std::vector<Segment> walls = {
-      {-10, -7, 10, -7}, {10, -7, 10, 7},  {10, 7, -10, 7},    {-10, 7, -10, -7},
-      {-3, -7, -3, -1},  {-3, 1, -3, 7},   {4, 7, 4, 2},       {4, 0, 4, -7},
-      {1, -2, 2, -2},    {2, -2, 2, -3},   {2, -3, 1, -3},     {1, -3, 1, -2},
+      {-10, -7, 10, -7}, {10, -7, 10, 7}, {10, 7, -10, 7}, {-10, 7, -10, -7},
+      {-3, -7, -3, -1},  {-3, 1, -3, 7},  {4, 7, 4, 2},    {4, 0, 4, -7},
+      {1, -2, 2, -2},    {2, -2, 2, -3},  {2, -3, 1, -3},  {1, -3, 1, -2},
   };
   return walls;
 }

@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <ceres/ceres.h>
+#include <Eigen/Cholesky>
 
 #include "slam/relative_pose_residual.h"
 
@@ -45,8 +45,7 @@ class Pose2dManifold final : public ceres::Manifold {
 };
 
 [[noreturn]] void Die(const char* what, const PoseGraphEdge& edge) {
-  std::fprintf(stderr, "PoseGraphOptimizer: %s (edge %d -> %d)\n", what, edge.from_id,
-               edge.to_id);
+  std::fprintf(stderr, "PoseGraphOptimizer: %s (edge %d -> %d)\n", what, edge.from_id, edge.to_id);
   std::abort();
 }
 

@@ -21,12 +21,12 @@ struct PoseGraphOptimizerOptions {
 };
 
 struct OptimizationSummary {
-  bool usable = false;         // Ceres reports a usable solution
+  bool usable = false;  // Ceres reports a usable solution
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
-  double solve_time_s = 0.0;   // Ceres' own total time
-  std::string message;         // Ceres' termination message
+  double solve_time_s = 0.0;  // Ceres' own total time
+  std::string message;        // Ceres' termination message
 };
 
 class PoseGraphOptimizer {

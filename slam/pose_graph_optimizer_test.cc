@@ -35,8 +35,7 @@ void ExpectPoseNear(const Pose2d& actual, const Pose2d& expected, double toleran
 
 // A unit square driven counter-clockwise; node 2 faces yaw π, node 3 −π/2.
 PoseGraph SquareLoop() {
-  PoseGraph graph =
-      NodesAt({{0, 0, 0}, {1, 0, M_PI / 2}, {1, 1, M_PI}, {0, 1, -M_PI / 2}});
+  PoseGraph graph = NodesAt({{0, 0, 0}, {1, 0, M_PI / 2}, {1, 1, M_PI}, {0, 1, -M_PI / 2}});
   for (int i = 0; i < 3; ++i) graph.edges.push_back(MakeEdge(graph, i, i + 1, EdgeKind::kOdometry));
   graph.edges.push_back(MakeEdge(graph, 3, 0, EdgeKind::kLoopClosure));
   return graph;
@@ -139,8 +138,8 @@ RingGraph MakeRingWithBadClosure() {
     ring.truth.edges.push_back(MakeEdge(ring.truth, i, i + 1, EdgeKind::kOdometry, info));
   }
   for (int i = 0; i < kNodes; i += 8) {  // correct closures across the ring
-    ring.truth.edges.push_back(MakeEdge(ring.truth, i, (i + kNodes / 2) % kNodes,
-                                        EdgeKind::kLoopClosure, info));
+    ring.truth.edges.push_back(
+        MakeEdge(ring.truth, i, (i + kNodes / 2) % kNodes, EdgeKind::kLoopClosure, info));
   }
   ring.truth.edges.push_back(MakeEdge(ring.truth, kNodes - 1, 0, EdgeKind::kLoopClosure, info));
   PoseGraphEdge bad = MakeEdge(ring.truth, 5, 30, EdgeKind::kLoopClosure, info);
@@ -155,7 +154,8 @@ RingGraph MakeRingWithBadClosure() {
   std::normal_distribution<double> noise(0.0, 0.2);
   for (int i = 1; i < kNodes; ++i) {
     Pose2d& pose = ring.graph.nodes[i].pose;
-    pose = {pose.x_m + noise(rng), pose.y_m + noise(rng), WrapAngle(pose.yaw_rad + 0.3 * noise(rng))};
+    pose = {pose.x_m + noise(rng), pose.y_m + noise(rng),
+            WrapAngle(pose.yaw_rad + 0.3 * noise(rng))};
   }
   return ring;
 }

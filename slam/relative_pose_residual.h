@@ -19,8 +19,8 @@
 
 #include <cmath>
 
-#include <Eigen/Core>
 #include <ceres/autodiff_cost_function.h>
+#include <Eigen/Core>
 
 namespace aslam {
 

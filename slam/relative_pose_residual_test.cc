@@ -5,9 +5,9 @@
 #include <random>
 #include <tuple>
 
-#include <Eigen/Cholesky>
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 
 #include "common/pose2d.h"
 
@@ -78,13 +78,14 @@ void CheckAgainstReference(const Vector6d& p, const Pose2d& measurement,
   const Eigen::Matrix<double, 3, 6> numeric =
       CentralDifferenceJacobian(p, measurement, sqrt_information);
   EXPECT_LT((jacobian - numeric).cwiseAbs().maxCoeff(), 1e-5 * (1.0 + numeric.norm()))
-      << "params " << p.transpose() << "\nanalytic\n" << jacobian << "\nnumeric\n" << numeric;
+      << "params " << p.transpose() << "\nanalytic\n"
+      << jacobian << "\nnumeric\n"
+      << numeric;
 }
 
 TEST(RelativePoseResidualTest, MatchesReferenceAndCentralDifferencesAtRandomPoses) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> position(-10.0, 10.0), yaw(-M_PI, M_PI),
-      small(-1.0, 1.0);
+  std::uniform_real_distribution<double> position(-10.0, 10.0), yaw(-M_PI, M_PI), small(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
     Vector6d p;
     p << position(rng), position(rng), yaw(rng), position(rng), position(rng), yaw(rng);
@@ -126,8 +127,7 @@ TEST(RelativePoseResidualTest, SquaredNormIsChiSquareWithTheInformation) {
   Eigen::Matrix3d information;
   information << 40.0, 5.0, -2.0, 5.0, 30.0, 3.0, -2.0, 3.0, 80.0;
   const Eigen::Matrix3d sqrt_info = information.llt().matrixU();
-  std::unique_ptr<ceres::CostFunction> cost(
-      RelativePoseResidual::Create(1.0, 0.2, 0.1, sqrt_info));
+  std::unique_ptr<ceres::CostFunction> cost(RelativePoseResidual::Create(1.0, 0.2, 0.1, sqrt_info));
   const double pose_a[3] = {0.0, 0.0, 0.0}, pose_b[3] = {1.1, 0.1, 0.15};
   const double* parameters[2] = {pose_a, pose_b};
   Eigen::Vector3d residual;

@@ -138,8 +138,8 @@ bool Slam::AddOdometry(const Odometry& raw) {
     if (jump_candidate_ && raw.utime > jump_candidate_->utime && plausible(*jump_candidate_, raw)) {
       // The stream continues from the jumped value: the odometry was reset. Rebase
       // so that no motion is seen across the jump.
-      odometry_correction_ =
-          odometry_correction_.Compose(last_raw_odometry_->pose).Compose(jump_candidate_->pose.Inverse());
+      odometry_correction_ = odometry_correction_.Compose(last_raw_odometry_->pose)
+                                 .Compose(jump_candidate_->pose.Inverse());
       ++counters_.odometry_rebases;
     } else {
       jump_candidate_ = raw;
@@ -219,14 +219,16 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
         std::abs(since_keyframe.yaw_rad) < options_.keyframe.rotation_rad) {
       update.pose.pose = graph_.nodes.back().pose.Compose(since_keyframe);
     } else {
-      AddKeyframe(scan, *odom_pose,
-                  std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
-                  &update);
+      AddKeyframe(
+          scan, *odom_pose,
+          std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
+          &update);
     }
   } else {
-    AddKeyframe(scan, *odom_pose,
-                std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
-                &update);
+    AddKeyframe(
+        scan, *odom_pose,
+        std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
+        &update);
   }
   if (update.keyframe_added) update.pose.pose = graph_.nodes.back().pose;
   update.pose.utime = scan.utime;
@@ -277,7 +279,8 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
     } else {
       ++counters_.matches_low_response;
       pose = prediction;
-      const double var_m = options_.front_end.odometry_sigma_m * options_.front_end.odometry_sigma_m;
+      const double var_m =
+          options_.front_end.odometry_sigma_m * options_.front_end.odometry_sigma_m;
       const double var_rad =
           options_.front_end.odometry_sigma_rad * options_.front_end.odometry_sigma_rad;
       edge.information = Eigen::Vector3d(1.0 / var_m, 1.0 / var_m, 1.0 / var_rad).asDiagonal();
@@ -307,7 +310,8 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
   int candidate = -1;
   double best_distance_m = lc.search_radius_m;
   for (int j = 0; j <= newest_candidate; ++j) {
-    const double d = std::hypot(graph_.nodes[j].pose.x_m - pose.x_m, graph_.nodes[j].pose.y_m - pose.y_m);
+    const double d =
+        std::hypot(graph_.nodes[j].pose.x_m - pose.x_m, graph_.nodes[j].pose.y_m - pose.y_m);
     if (d < best_distance_m) {
       best_distance_m = d;
       candidate = j;

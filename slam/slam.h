@@ -33,10 +33,10 @@ enum class DropReason : int {
   kOdometryTimeBackwards = 0,  // utime not after the previous odometry
   kOdometryJump,               // faster than the physical bound since the previous message
   kOdometryNotFinite,
-  kScanTimeBackwards,          // utime not after the previous scan
-  kScanBeforeOdometry,         // no odometry yet to place it
-  kScanTooFewPoints,           // fewer than min_valid_points valid returns
-  kScanMalformed,              // bad geometry (non-finite angles, non-positive increment...)
+  kScanTimeBackwards,   // utime not after the previous scan
+  kScanBeforeOdometry,  // no odometry yet to place it
+  kScanTooFewPoints,    // fewer than min_valid_points valid returns
+  kScanMalformed,       // bad geometry (non-finite angles, non-positive increment...)
   kCount
 };
 const char* DropReasonName(DropReason reason);
@@ -47,11 +47,12 @@ struct SlamCounters {
   int64_t scans_processed = 0;
   // Beams with NaN, inf or negative ranges: ignored (like no return), the scan kept.
   int64_t invalid_beams = 0;
-  int64_t odometry_rebases = 0;  // a jump followed by a consistent stream: odometry was reset
+  int64_t odometry_rebases = 0;      // a jump followed by a consistent stream: odometry was reset
   int64_t matches_low_response = 0;  // sequential edges that fell back to odometry
   int64_t loop_closures_accepted = 0;
   int64_t loop_closures_rejected = 0;  // weak match or torn graph
-  int64_t loop_closures_removed = 0;   // of those rejected: accepted by the matcher, removed after optimization
+  int64_t loop_closures_removed =
+      0;  // of those rejected: accepted by the matcher, removed after optimization
   int64_t optimizations = 0;
   std::array<int64_t, static_cast<int>(DropReason::kCount)> dropped{};
   int64_t dropped_total() const;
@@ -59,12 +60,12 @@ struct SlamCounters {
 
 // What one scan changed.
 struct ScanUpdate {
-  bool accepted = false;           // false: dropped (see counters)
-  StampedPose pose;                // the base in "map" at the scan's time
+  bool accepted = false;  // false: dropped (see counters)
+  StampedPose pose;       // the base in "map" at the scan's time
   bool keyframe_added = false;
   int loop_closures_accepted = 0;
   int loop_closures_rejected = 0;
-  bool graph_changed = false;      // nodes, edges or poses changed
+  bool graph_changed = false;  // nodes, edges or poses changed
   bool graph_optimized = false;
   // Optimization moved the keyframes: the next RenderMap() re-inserts every
   // keyframe scan at its optimized pose (done there, not per scan, because
@@ -101,7 +102,7 @@ class Slam {
     int64_t utime = 0;
     Pose2d odom_pose;  // odometry at the keyframe's scan
     std::shared_ptr<const PointCloud2d> points;
-    LidarScan scan;    // kept to re-render the map after optimization
+    LidarScan scan;  // kept to re-render the map after optimization
   };
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
@@ -111,7 +112,8 @@ class Slam {
   // Optimizes, then removes loop closures that tear the graph; returns false if
   // the closure just added (edge index `new_edge`) had to be removed.
   bool OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update);
-  Eigen::Matrix3d EdgeInformation(const Pose2d& from_pose, const Eigen::Matrix3d& covariance_map) const;
+  Eigen::Matrix3d EdgeInformation(const Pose2d& from_pose,
+                                  const Eigen::Matrix3d& covariance_map) const;
   void Drop(DropReason reason) { ++counters_.dropped[static_cast<int>(reason)]; }
 
   SlamOptions options_;

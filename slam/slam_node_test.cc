@@ -16,10 +16,10 @@
 #include "common/inproc_host.h"
 #include "common/map_io.h"
 #include "common/types_lcm.h"
+#include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_node.h"
 #include "slam/g2o_io.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {

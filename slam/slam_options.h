@@ -10,8 +10,8 @@
 namespace aslam {
 
 struct KeyframeOptions {
-  double travel_m = 0.3;      // a new keyframe after this much odometry travel...
-  double rotation_rad = 0.35; // ...or this much rotation
+  double travel_m = 0.3;       // a new keyframe after this much odometry travel...
+  double rotation_rad = 0.35;  // ...or this much rotation
 };
 
 struct FrontEndOptions {
@@ -27,11 +27,11 @@ struct FrontEndOptions {
 
 struct LoopClosureOptions {
   bool enabled = true;
-  double search_radius_m = 4.0;   // candidates lie this close to the new keyframe...
+  double search_radius_m = 4.0;     // candidates lie this close to the new keyframe...
   int recent_chain_keyframes = 30;  // ...and are not among its newest predecessors
-  int neighbour_keyframes = 5;    // the candidate's local map: it and this many either side
+  int neighbour_keyframes = 5;      // the candidate's local map: it and this many either side
   SearchWindow window{2.0, 0.5};
-  double min_response = 0.55;     // a weaker match is rejected
+  double min_response = 0.55;  // a weaker match is rejected
   // At most one attempt per this many keyframes, so one revisit is not closed over and over.
   int keyframes_between_attempts = 5;
   // After optimization, a loop-closure edge whose chi-square exceeds this tears the
@@ -40,10 +40,10 @@ struct LoopClosureOptions {
 };
 
 struct InputOptions {
-  int min_valid_points = 40;             // scans with fewer valid returns are dropped
-  double max_linear_speed_mps = 3.0;     // odometry faster than this between messages is a jump
+  int min_valid_points = 40;          // scans with fewer valid returns are dropped
+  double max_linear_speed_mps = 3.0;  // odometry faster than this between messages is a jump
   double max_angular_speed_radps = 8.0;
-  double odometry_buffer_s = 5.0;        // odometry kept to look up the pose at a scan's time
+  double odometry_buffer_s = 5.0;  // odometry kept to look up the pose at a scan's time
 };
 
 struct SlamOptions {

@@ -10,9 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/simulator.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -26,7 +26,8 @@ int64_t Dropped(const Slam& slam, DropReason reason) {
 // A simulator in the test world, parked or following a scripted drive.
 class SimulatedRun {
  public:
-  SimulatedRun() : world_(LoadWorld(kRoot + "/worlds/test")), sim_(world_.map.grid, world_.start, {}) {}
+  SimulatedRun()
+      : world_(LoadWorld(kRoot + "/worlds/test")), sim_(world_.map.grid, world_.start, {}) {}
 
   // Steps until the next scan; returns it with the odometry of the same time.
   std::pair<Odometry, LidarScan> NextScan(const VelocityCommand& command) {
@@ -212,14 +213,17 @@ TEST(Slam, LoopOfTheTestWorldClosesAndStaysAccurate) {
   for (const PoseGraphNode& node : slam.graph().nodes) {
     while (t + 1 < truth.size() && truth[t].first < node.utime) ++t;
     ASSERT_EQ(truth[t].first, node.utime);  // truth and scans share the 10 Hz grid
-    const double e = std::hypot(node.pose.x_m - truth[t].second.x_m, node.pose.y_m - truth[t].second.y_m);
+    const double e =
+        std::hypot(node.pose.x_m - truth[t].second.x_m, node.pose.y_m - truth[t].second.y_m);
     sum_sq += e * e;
     max_error = std::max(max_error, e);
   }
   const double rmse = std::sqrt(sum_sq / slam.graph().nodes.size());
-  std::printf("test-world loop: %zu keyframes, %lld closures accepted, %lld rejected, ATE RMSE %.3f m, max %.3f m\n",
-              slam.graph().nodes.size(), static_cast<long long>(slam.counters().loop_closures_accepted),
-              static_cast<long long>(slam.counters().loop_closures_rejected), rmse, max_error);
+  std::printf(
+      "test-world loop: %zu keyframes, %lld closures accepted, %lld rejected, ATE RMSE %.3f m, max "
+      "%.3f m\n",
+      slam.graph().nodes.size(), static_cast<long long>(slam.counters().loop_closures_accepted),
+      static_cast<long long>(slam.counters().loop_closures_rejected), rmse, max_error);
   EXPECT_LT(rmse, 0.10);
   EXPECT_LT(max_error, 0.25);
 }

@@ -73,7 +73,8 @@ TEST(ExplorationReplay, SlamReproducesTheRecordedPoseGraphs) {
       EXPECT_EQ(a.edges[e].from_id, b.edges[e].from_id);
       EXPECT_EQ(a.edges[e].to_id, b.edges[e].to_id);
       EXPECT_EQ(a.edges[e].kind, b.edges[e].kind);
-      for (int k = 0; k < 9; ++k) EXPECT_DOUBLE_EQ(a.edges[e].information[k], b.edges[e].information[k]);
+      for (int k = 0; k < 9; ++k)
+        EXPECT_DOUBLE_EQ(a.edges[e].information[k], b.edges[e].information[k]);
     }
   }
 }

@@ -25,11 +25,11 @@
 #include "common/inproc_host.h"
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
+#include "common/world_file.h"
+#include "eval/trajectory_metrics.h"
 #include "slam/occupancy_mapper.h"
 #include "slam/slam_config.h"
 #include "slam/slam_node.h"
-#include "eval/trajectory_metrics.h"
-#include "common/world_file.h"
 
 namespace aslam {
 namespace {
@@ -53,8 +53,8 @@ constexpr double kMinCoverage = 0.90;  // the loop sees most rooms through their
 struct Replay {
   int64_t odometry_events = 0;
   int64_t scan_events = 0;
-  std::vector<TimedPose> truth;     // world
-  std::vector<TimedPose> odometry;  // odom
+  std::vector<TimedPose> truth;        // world
+  std::vector<TimedPose> odometry;     // odom
   std::map<int64_t, LidarScan> scans;  // by utime, for the odometry-only map
   // What the node published.
   int64_t poses_published = 0;
@@ -226,9 +226,10 @@ TEST(SlamReplay, OdometryAloneFailsTheBounds) {
   const MapAgreement a = ComputeMapAgreement(mapper.Render(), MapInWorld(r), world.map.grid);
   EXPECT_LT(a.occupied_precision, kMinOccupiedPrecision);
   EXPECT_LT(a.free_precision, kMinFreePrecision);
-  std::printf("odometry alone: ATE RMSE %.3f m, max %.3f m; occupied precision %.3f, free "
-              "precision %.3f, coverage %.3f\n",
-              ate.rmse_m, ate.max_m, a.occupied_precision, a.free_precision, a.coverage);
+  std::printf(
+      "odometry alone: ATE RMSE %.3f m, max %.3f m; occupied precision %.3f, free "
+      "precision %.3f, coverage %.3f\n",
+      ate.rmse_m, ate.max_m, a.occupied_precision, a.free_precision, a.coverage);
 }
 
 }  // namespace

@@ -66,7 +66,8 @@ bool Blacklisted(Point2d target_m, const std::vector<Point2d>& blacklist_m, doub
 
 // a beats b: higher total; near-equal totals go to the shorter path (then the earlier index).
 bool Better(const FrontierScore& a, const FrontierScore& b) {
-  const double tolerance = kTieRelative * std::max(1.0, std::max(std::abs(a.total), std::abs(b.total)));
+  const double tolerance =
+      kTieRelative * std::max(1.0, std::max(std::abs(a.total), std::abs(b.total)));
   if (std::abs(a.total - b.total) > tolerance) return a.total > b.total;
   return a.path_length_m < b.path_length_m;
 }
@@ -75,12 +76,9 @@ bool Better(const FrontierScore& a, const FrontierScore& b) {
 
 const char* UtilityMethodName(UtilityMethod method) {
   switch (method) {
-    case UtilityMethod::kFd:
-      return "fd";
-    case UtilityMethod::kAgs:
-      return "ags";
-    case UtilityMethod::kOurs:
-      return "ours";
+    case UtilityMethod::kFd: return "fd";
+    case UtilityMethod::kAgs: return "ags";
+    case UtilityMethod::kOurs: return "ours";
   }
   return "?";
 }
@@ -94,16 +92,11 @@ std::optional<UtilityMethod> ParseUtilityMethod(const std::string& name) {
 
 const char* EligibilityName(Eligibility eligibility) {
   switch (eligibility) {
-    case Eligibility::kEligible:
-      return "eligible";
-    case Eligibility::kTooClose:
-      return "too close";
-    case Eligibility::kUnreachable:
-      return "unreachable";
-    case Eligibility::kBlacklisted:
-      return "blacklisted";
-    case Eligibility::kTooFar:
-      return "too far";
+    case Eligibility::kEligible: return "eligible";
+    case Eligibility::kTooClose: return "too close";
+    case Eligibility::kUnreachable: return "unreachable";
+    case Eligibility::kBlacklisted: return "blacklisted";
+    case Eligibility::kTooFar: return "too far";
   }
   return "?";
 }
@@ -227,7 +220,8 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     // Terms are computed for ineligible frontiers too (where a path exists), so
     // that UTILITY_SCORES shows what they would have scored.
     if (u1_available && path) {
-      const GraphExtension extension = HallucinatePath(graph, path->points_m, map, options_.hallucination);
+      const GraphExtension extension =
+          HallucinatePath(graph, path->points_m, map, options_.hallucination);
       s.hallucinated_nodes = extension.num_new_nodes;
       s.hallucinated_edges = static_cast<int>(extension.edges.size());
       const double log_det = incremental ? incremental->LogDet(extension)
@@ -250,15 +244,9 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
       continue;
     }
     switch (method) {
-      case UtilityMethod::kFd:
-        s.total = -s.path_length_m;
-        break;
-      case UtilityMethod::kAgs:
-        s.total = s.u1;
-        break;
-      case UtilityMethod::kOurs:
-        s.total = s.u1 + s.u2;
-        break;
+      case UtilityMethod::kFd: s.total = -s.path_length_m; break;
+      case UtilityMethod::kAgs: s.total = s.u1; break;
+      case UtilityMethod::kOurs: s.total = s.u1 + s.u2; break;
     }
     ++decision.num_eligible;
     if (decision.chosen_index < 0 || Better(s, decision.scores[decision.chosen_index])) {

@@ -42,13 +42,20 @@ std::optional<UtilityMethod> ParseUtilityMethod(const std::string& name);
 inline bool MethodUsesGraph(UtilityMethod method) { return method != UtilityMethod::kFd; }
 
 // Codes equal frontier_score_t's ELIGIBLE / INELIGIBLE_* constants.
-enum class Eligibility { kEligible = 0, kTooClose = 1, kUnreachable = 2, kBlacklisted = 3, kTooFar = 4 };
+enum class Eligibility {
+  kEligible = 0,
+  kTooClose = 1,
+  kUnreachable = 2,
+  kBlacklisted = 3,
+  kTooFar = 4
+};
 const char* EligibilityName(Eligibility eligibility);
 
 struct GoalSelectorOptions {
   UtilityMethod method = UtilityMethod::kOurs;
   PathEntropyOptions path_entropy;  // λ and the unit of d in γ
-  double min_distance_m = 0.25;     // targets closer to the robot are ineligible (docs/architecture.md §5)
+  double min_distance_m =
+      0.25;  // targets closer to the robot are ineligible (docs/architecture.md §5)
   double max_path_length_m = 0.0;   // longer planned paths are ineligible; 0 = no limit
   double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
   // A target the planner cannot enter (e.g. in the inflated zone) is planned
@@ -89,9 +96,9 @@ struct GoalDecision {
   std::vector<FrontierScore> scores;  // one per input frontier, in input order
   int chosen_index = -1;              // into scores; -1 when nothing is eligible
   int num_eligible = 0;
-  int graph_nodes = 0;   // size of the pose graph scored (0 for fd)
-  int cached_solves = 0; // IncrementalLogDet solves (diagnostic)
-  std::string note;      // why U1 could not be computed, if so
+  int graph_nodes = 0;    // size of the pose graph scored (0 for fd)
+  int cached_solves = 0;  // IncrementalLogDet solves (diagnostic)
+  std::string note;       // why U1 could not be computed, if so
   bool has_goal() const { return chosen_index >= 0; }
   const FrontierScore& chosen() const { return scores[chosen_index]; }
 };

@@ -10,7 +10,7 @@
 namespace aslam {
 namespace {
 
-constexpr double kRes = 0.1;  // m per cell in every test map
+constexpr double kRes = 0.1;                      // m per cell in every test map
 constexpr double kHUnknown = 0.4689955935892812;  // h(0.1)
 constexpr double kHKnown = 0.9927744539878083;    // h(0.45)
 
@@ -79,7 +79,7 @@ TEST(GoalSelectorFd, PicksTheNearestByPathNotByStraightLine) {
   const FrontierScore& b = d.scores[1];
   EXPECT_NEAR(a.distance_m, 1.5, 1e-9);  // A is nearer in a straight line...
   EXPECT_NEAR(b.distance_m, 2.5, 1e-9);
-  EXPECT_GT(a.path_length_m, 4.5);        // ...but around the wall it is the farther one
+  EXPECT_GT(a.path_length_m, 4.5);          // ...but around the wall it is the farther one
   EXPECT_NEAR(b.path_length_m, 2.5, 1e-5);  // 25 straight steps
   ASSERT_TRUE(d.has_goal());
   EXPECT_EQ(d.chosen().frontier_id, 2);
@@ -122,9 +122,10 @@ TEST(GoalSelectorFd, RespectsTheBlacklistRadius) {
 TEST(GoalSelector, EligibilityReasons) {
   GoalSelectorOptions options = Options(UtilityMethod::kFd);
   options.max_path_length_m = 4.0;  // A (~5 m by path) is too far, B (2.5 m) is not
-  const GoalDecision d = Decide(options, WalledRoom(), kRoomRobot,
-                                {MakeFrontier(1, kA), MakeFrontier(2, kB), MakeFrontier(3, kTooClose),
-                                 MakeFrontier(4, kInTheBox), MakeFrontier(5, kAtTheWall)});
+  const GoalDecision d =
+      Decide(options, WalledRoom(), kRoomRobot,
+             {MakeFrontier(1, kA), MakeFrontier(2, kB), MakeFrontier(3, kTooClose),
+              MakeFrontier(4, kInTheBox), MakeFrontier(5, kAtTheWall)});
   EXPECT_EQ(d.scores[0].eligibility, Eligibility::kTooFar);
   EXPECT_EQ(d.scores[1].eligibility, Eligibility::kEligible);
   EXPECT_EQ(d.scores[2].eligibility, Eligibility::kTooClose);
@@ -143,8 +144,8 @@ TEST(GoalSelector, EligibilityReasons) {
   // A snap of 0.25 m reaches the wall target's free neighbour (around the wall, like A).
   options.goal_snap_m = 0.25;
   options.max_path_length_m = 0.0;  // no limit
-  const GoalDecision snapped = Decide(options, WalledRoom(), kRoomRobot,
-                                      {MakeFrontier(1, kA), MakeFrontier(5, kAtTheWall)});
+  const GoalDecision snapped =
+      Decide(options, WalledRoom(), kRoomRobot, {MakeFrontier(1, kA), MakeFrontier(5, kAtTheWall)});
   EXPECT_EQ(snapped.scores[0].eligibility, Eligibility::kEligible);
   EXPECT_EQ(snapped.scores[1].eligibility, Eligibility::kEligible);
   EXPECT_NEAR(snapped.scores[1].path_length_m, snapped.scores[0].path_length_m, 0.5);
@@ -160,8 +161,8 @@ TEST(GoalSelector, EligibilityReasons) {
 }
 
 TEST(GoalSelector, RobotOffTheMapReachesNothing) {
-  const GoalDecision d = Decide(Options(UtilityMethod::kFd), WalledRoom(), {-3.0, -3.0, 0.0},
-                                {MakeFrontier(2, kB)});
+  const GoalDecision d =
+      Decide(Options(UtilityMethod::kFd), WalledRoom(), {-3.0, -3.0, 0.0}, {MakeFrontier(2, kB)});
   EXPECT_EQ(d.scores[0].eligibility, Eligibility::kUnreachable);
   EXPECT_FALSE(d.has_goal());
 }
@@ -272,7 +273,8 @@ TEST(GoalSelectorAgs, PathPastOldNodesInClutterGetsClosuresAndAHigherU1) {
   const OccupancyGrid map = Corridor();
   const std::vector<Frontier> frontiers = {MakeFrontier(1, kWest), MakeFrontier(2, kEast)};
 
-  const GoalDecision ags = Decide(Options(UtilityMethod::kAgs), map, kCorridorRobot, frontiers, {}, graph);
+  const GoalDecision ags =
+      Decide(Options(UtilityMethod::kAgs), map, kCorridorRobot, frontiers, {}, graph);
   const FrontierScore& a = ags.scores[0];
   const FrontierScore& b = ags.scores[1];
   EXPECT_EQ(ags.graph_nodes, 30);
@@ -293,12 +295,13 @@ TEST(GoalSelectorAgs, PathPastOldNodesInClutterGetsClosuresAndAHigherU1) {
     const auto path = planner.Plan(costmap, {kCorridorRobot.x_m, kCorridorRobot.y_m}, s->target_m);
     ASSERT_TRUE(path.has_value());
     const GraphExtension ext = HallucinatePath(graph, path->points_m, map, HallucinationOptions{});
-    const double u1 = U1FromLogDet(LogDetReducedLaplacianDense(base, ext),
-                                   base.num_nodes + ext.num_new_nodes);
+    const double u1 =
+        U1FromLogDet(LogDetReducedLaplacianDense(base, ext), base.num_nodes + ext.num_new_nodes);
     EXPECT_NEAR(s->u1, u1, 1e-9 * u1) << s->frontier_id;
   }
 
-  const GoalDecision ours = Decide(Options(UtilityMethod::kOurs), map, kCorridorRobot, frontiers, {}, graph);
+  const GoalDecision ours =
+      Decide(Options(UtilityMethod::kOurs), map, kCorridorRobot, frontiers, {}, graph);
   ASSERT_TRUE(ours.has_goal());
   EXPECT_EQ(ours.chosen().frontier_id, 1);
   EXPECT_NEAR(ours.scores[0].u1, a.u1, 1e-9 * a.u1);
@@ -326,13 +329,15 @@ TEST(GoalSelectorOurs, PathEntropyDecidesWhereU1Ties) {
   const PoseGraph graph = Chain(positions);
   const std::vector<Frontier> frontiers = {MakeFrontier(1, kWest), MakeFrontier(2, kEast)};
 
-  const GoalDecision ags = Decide(Options(UtilityMethod::kAgs), map, kCorridorRobot, frontiers, {}, graph);
+  const GoalDecision ags =
+      Decide(Options(UtilityMethod::kAgs), map, kCorridorRobot, frontiers, {}, graph);
   EXPECT_NEAR(ags.scores[0].u1, ags.scores[1].u1, 1e-12 * ags.scores[1].u1);
   EXPECT_GT(ags.scores[0].path_length_m, ags.scores[1].path_length_m);
   ASSERT_TRUE(ags.has_goal());
   EXPECT_EQ(ags.chosen().frontier_id, 2);
 
-  const GoalDecision ours = Decide(Options(UtilityMethod::kOurs), map, kCorridorRobot, frontiers, {}, graph);
+  const GoalDecision ours =
+      Decide(Options(UtilityMethod::kOurs), map, kCorridorRobot, frontiers, {}, graph);
   const FrontierScore& a = ours.scores[0];
   const FrontierScore& b = ours.scores[1];
   EXPECT_EQ(a.ray_cells, 26);

@@ -117,20 +117,23 @@ Eigen::Matrix3d OdometryInformation(const HallucinationOptions& options) {
 }
 
 Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<Point2d>& path_m,
-                                      const OccupancyGrid& map, const HallucinationOptions& options) {
+                                      const OccupancyGrid& map,
+                                      const HallucinationOptions& options) {
   Hallucination result;
   const int num_base = static_cast<int>(graph.nodes.size());
   const int path_cells = static_cast<int>(path_m.size());
   if (num_base == 0 || path_cells == 0) return result;
 
   const Pose2d newest = graph.nodes.back().pose;
-  const int num_interior = (path_cells + options.path_cells_per_node - 1) / options.path_cells_per_node;
+  const int num_interior =
+      (path_cells + options.path_cells_per_node - 1) / options.path_cells_per_node;
   const int num_new = num_interior + 1;
   for (int k = 1; k <= num_new; ++k) {
     HallucinatedNode node;
-    node.path_index = k == num_new ? path_cells - 1
-                                   : static_cast<int>(std::lround(static_cast<double>(k) *
-                                                                  (path_cells - 1) / num_new));
+    node.path_index =
+        k == num_new
+            ? path_cells - 1
+            : static_cast<int>(std::lround(static_cast<double>(k) * (path_cells - 1) / num_new));
     const Point2d& at = path_m[node.path_index];
     node.pose = {at.x_m, at.y_m, HeadingAt(path_m, node.path_index, newest.yaw_rad)};
     const CellFractions fractions = FractionsWithin(map, at, options.unknown_radius_m);
@@ -140,7 +143,8 @@ Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<
   }
 
   const Eigen::Matrix3d odometry_information = OdometryInformation(options);
-  const int last_eligible = num_base - options.exclude_newest_nodes;  // base nodes j < this may close loops
+  const int last_eligible =
+      num_base - options.exclude_newest_nodes;  // base nodes j < this may close loops
   const double radius_sq = options.loop_closure_radius_m * options.loop_closure_radius_m;
   // Base nodes that may close a loop with any new node: eligible index, inside
   // the new nodes' bounding box grown by the radius (one pass over the graph),
@@ -160,15 +164,21 @@ Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<
   const double bin_m = std::max(r, std::max(x_hi - x_lo, y_hi - y_lo) / 250.0) * (1.0 + 1e-6);
   const int bin_cols = static_cast<int>((x_hi + r - box_x0) / bin_m) + 1;
   const int bin_rows = static_cast<int>((y_hi + r - box_y0) / bin_m) + 1;
-  auto bin_col = [&](double x) { return std::min(bin_cols - 1, static_cast<int>((x - box_x0) / bin_m)); };
-  auto bin_row = [&](double y) { return std::min(bin_rows - 1, static_cast<int>((y - box_y0) / bin_m)); };
-  std::vector<int> nearby;     // eligible base nodes in the box, grouped by bin, ascending within a bin
+  auto bin_col = [&](double x) {
+    return std::min(bin_cols - 1, static_cast<int>((x - box_x0) / bin_m));
+  };
+  auto bin_row = [&](double y) {
+    return std::min(bin_rows - 1, static_cast<int>((y - box_y0) / bin_m));
+  };
+  std::vector<int>
+      nearby;  // eligible base nodes in the box, grouped by bin, ascending within a bin
   std::vector<int> bin_start;  // nearby[bin_start[b] .. bin_start[b + 1]) are in bin b
   if (last_eligible > 0) {
     std::vector<int> in_box;
     for (int j = 0; j < last_eligible; ++j) {
       const Pose2d& pose = graph.nodes[j].pose;
-      if (pose.x_m >= x_lo - r && pose.x_m <= x_hi + r && pose.y_m >= y_lo - r && pose.y_m <= y_hi + r) {
+      if (pose.x_m >= x_lo - r && pose.x_m <= x_hi + r && pose.y_m >= y_lo - r &&
+          pose.y_m <= y_hi + r) {
         in_box.push_back(j);
       }
     }
@@ -265,7 +275,8 @@ void ValidateHallucinationOptions(const HallucinationOptions& options) {
           options.max_loop_closures_per_node);
   require(options.exclude_newest_nodes >= 0, "exclude_newest_nodes", options.exclude_newest_nodes);
   require(std::isfinite(options.occupied_fraction_threshold) &&
-              options.occupied_fraction_threshold >= 0.0 && options.occupied_fraction_threshold <= 1.0,
+              options.occupied_fraction_threshold >= 0.0 &&
+              options.occupied_fraction_threshold <= 1.0,
           "occupied_fraction_threshold", options.occupied_fraction_threshold);
   require(std::isfinite(options.loop_closure_scale) && options.loop_closure_scale >= 0.0,
           "loop_closure_scale", options.loop_closure_scale);

@@ -15,7 +15,7 @@
 
 namespace aslam {
 
-struct HallucinationOptions {  // docs/architecture.md §5 constants
+struct HallucinationOptions {     // docs/architecture.md §5 constants
   int path_cells_per_node = 100;  // ceil(path_cells / 100) nodes + one at the frontier
   // Σ_odo = [[xx, xy, 0], [xy, yy, 0], [0, 0, yawyaw]] (m², m², rad²).
   double odometry_sigma_xx = 0.04, odometry_sigma_xy = 0.001, odometry_sigma_yy = 0.04,
@@ -45,18 +45,19 @@ GraphExtension HallucinatePath(const PoseGraph& graph, const std::vector<Point2d
 
 // The same extension with what it is made of, for tests and diagnostics.
 struct HallucinatedNode {
-  int path_index = 0;               // index into path_m
-  Pose2d pose;                      // at path_m[path_index], yaw along the path
-  double unknown_fraction = 0.0;    // u
-  double occupied_fraction = 0.0;   // of the cells within unknown_radius_m
+  int path_index = 0;              // index into path_m
+  Pose2d pose;                     // at path_m[path_index], yaw along the path
+  double unknown_fraction = 0.0;   // u
+  double occupied_fraction = 0.0;  // of the cells within unknown_radius_m
 };
 struct Hallucination {
-  std::vector<HallucinatedNode> nodes;   // extended-graph index N + k for nodes[k]
-  std::vector<PoseGraphEdge> edges;      // from/to in extended-graph indices, with I
-  GraphExtension extension;              // the same edges with D-optimality weights
+  std::vector<HallucinatedNode> nodes;  // extended-graph index N + k for nodes[k]
+  std::vector<PoseGraphEdge> edges;     // from/to in extended-graph indices, with I
+  GraphExtension extension;             // the same edges with D-optimality weights
 };
 Hallucination HallucinatePathDetailed(const PoseGraph& graph, const std::vector<Point2d>& path_m,
-                                      const OccupancyGrid& map, const HallucinationOptions& options);
+                                      const OccupancyGrid& map,
+                                      const HallucinationOptions& options);
 
 // Validates; throws std::invalid_argument naming the field.
 void ValidateHallucinationOptions(const HallucinationOptions& options);

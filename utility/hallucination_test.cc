@@ -13,7 +13,9 @@ namespace {
 
 constexpr double kResolution_m = 0.1;
 
-Point2d Center(int col, int row) { return {(col + 0.5) * kResolution_m, (row + 0.5) * kResolution_m}; }
+Point2d Center(int col, int row) {
+  return {(col + 0.5) * kResolution_m, (row + 0.5) * kResolution_m};
+}
 
 PoseGraph GraphAt(const std::vector<Point2d>& positions_m) {
   PoseGraph graph;
@@ -51,8 +53,8 @@ TEST(HallucinationTest, NodeCountIsCeilPathCellsOver100PlusOne) {
   const OccupancyGrid map(600, 100, kResolution_m, {0.0, 0.0}, OccupancyGrid::kFree);
   const PoseGraph graph = GraphAt({Center(10, 20)});
   // path_cells → ceil(path_cells / 100) + 1 nodes.
-  const std::vector<std::pair<int, int>> cases = {{1, 2}, {2, 2}, {100, 2}, {101, 3}, {200, 3},
-                                                  {201, 4}, {450, 6}};
+  const std::vector<std::pair<int, int>> cases = {{1, 2},   {2, 2},   {100, 2}, {101, 3},
+                                                  {200, 3}, {201, 4}, {450, 6}};
   for (const auto& [cells, nodes] : cases) {
     const GraphExtension extension = HallucinatePath(graph, StraightPathEast(cells), map, {});
     EXPECT_EQ(extension.num_new_nodes, nodes) << cells << " path cells";
@@ -138,7 +140,8 @@ TEST(HallucinationTest, UnknownAndOccupiedFractionsFromHandDrawnMap) {
     EXPECT_NEAR(node.pose.yaw_rad, M_PI / 2, 1e-12);
   }
   // Chain edges carry I_odo·(1 + u).
-  ExpectMatrixNear(result.edges.front().information, OdometryInformation({}) * (1.0 + 148.0 / 317.0));
+  ExpectMatrixNear(result.edges.front().information,
+                   OdometryInformation({}) * (1.0 + 148.0 / 317.0));
 }
 
 TEST(HallucinationTest, CellsOffTheMapCountAsUnknown) {
@@ -216,8 +219,9 @@ TEST(HallucinationTest, NoClosuresWhenOccupiedFractionAtMostThreshold) {
   // Threshold raised above 17/317 ≈ 0.054: no closures either.
   HallucinationOptions options;
   options.occupied_fraction_threshold = 0.06;
-  EXPECT_EQ(HallucinatePath(LoopGraph(), ShortPathNorth(), HandDrawnMap(55, 100), options).edges.size(),
-            2u);
+  EXPECT_EQ(
+      HallucinatePath(LoopGraph(), ShortPathNorth(), HandDrawnMap(55, 100), options).edges.size(),
+      2u);
 }
 
 TEST(HallucinationOptionsTest, ValidationNamesTheField) {

@@ -23,7 +23,8 @@ void PathEntropyOptions::Validate() const {
   if (!(lambda >= 0.0) || !std::isfinite(lambda)) {
     ThrowBadOption("lambda", lambda, "must be finite and >= 0");
   }
-  if (!(p_unknown > 0.0 && p_unknown < 1.0)) ThrowBadOption("p_unknown", p_unknown, "must be in (0, 1)");
+  if (!(p_unknown > 0.0 && p_unknown < 1.0))
+    ThrowBadOption("p_unknown", p_unknown, "must be in (0, 1)");
   if (!(p_known > 0.0 && p_known < 1.0)) ThrowBadOption("p_known", p_known, "must be in (0, 1)");
 }
 
@@ -64,14 +65,15 @@ RayEntropy PathEntropy(const OccupancyGrid& map, CellIndex robot, CellIndex targ
   RayEntropy result;
   for (const CellIndex& cell : BresenhamLine(robot, target)) {
     ++result.ray_cells;
-    // Off the map reads as known (docs/architecture.md §5): nothing there for the robot to learn by going.
+    // Off the map reads as known (docs/architecture.md §5): nothing there for the robot to learn by
+    // going.
     if (map.ValueOr(cell, OccupancyGrid::kFree) == OccupancyGrid::kUnknown) {
       ++result.unknown_cells;
     }
   }
   // Summed as counts times h so that E is exact for a given mix, whatever the order.
-  result.entropy_bits = result.unknown_cells * h_unknown +
-                        (result.ray_cells - result.unknown_cells) * h_known;
+  result.entropy_bits =
+      result.unknown_cells * h_unknown + (result.ray_cells - result.unknown_cells) * h_known;
   return result;
 }
 
@@ -98,10 +100,11 @@ U2Terms ComputeU2(const OccupancyGrid& map, CellIndex robot, CellIndex target, d
   terms.ray_cells = ray.ray_cells;
   terms.path_entropy_bits = ray.entropy_bits;
   terms.mean_entropy_bits = ray.entropy_bits / ray.ray_cells;  // K >= 1: R itself is on the ray
-  const double distance_cells =
-      std::hypot(static_cast<double>(target.col - robot.col), static_cast<double>(target.row - robot.row));
+  const double distance_cells = std::hypot(static_cast<double>(target.col - robot.col),
+                                           static_cast<double>(target.row - robot.row));
   terms.distance_m = distance_cells * map.resolution_m();
-  const double d = options.distance_unit == DistanceUnit::kMeters ? terms.distance_m : distance_cells;
+  const double d =
+      options.distance_unit == DistanceUnit::kMeters ? terms.distance_m : distance_cells;
   terms.gamma = std::exp(-options.lambda * d);
   terms.beta = DigitsOfIntegerPart(u1);
   terms.rho = std::pow(10.0, terms.beta);

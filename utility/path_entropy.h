@@ -18,7 +18,8 @@
 
 namespace aslam {
 
-// The unit of d in γ = exp(-λ d). Metres by default (docs/architecture.md §5); the authors' code used cells.
+// The unit of d in γ = exp(-λ d). Metres by default (docs/architecture.md §5); the authors' code
+// used cells.
 enum class DistanceUnit { kMeters, kCells };
 
 struct PathEntropyOptions {
@@ -52,14 +53,14 @@ int DigitsOfIntegerPart(double u1);
 
 // Every term of U2 for one frontier.
 struct U2Terms {
-  int ray_cells = 0;              // K
-  double path_entropy_bits = 0;   // E
-  double mean_entropy_bits = 0;   // E/K
-  double distance_m = 0;          // Euclidean robot cell -> target cell centres, metres
-  double gamma = 0;               // exp(-λ d), d in the configured unit
+  int ray_cells = 0;             // K
+  double path_entropy_bits = 0;  // E
+  double mean_entropy_bits = 0;  // E/K
+  double distance_m = 0;         // Euclidean robot cell -> target cell centres, metres
+  double gamma = 0;              // exp(-λ d), d in the configured unit
   int beta = 1;
-  double rho = 10;                // 10^β
-  double u2 = 0;                  // (1 - E/K) ρ + γ
+  double rho = 10;  // 10^β
+  double u2 = 0;    // (1 - E/K) ρ + γ
 };
 
 U2Terms ComputeU2(const OccupancyGrid& map, CellIndex robot, CellIndex target, double u1,

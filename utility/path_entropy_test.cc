@@ -103,8 +103,8 @@ TEST(PathEntropy, CellsOffTheMapCountAsKnown) {
 }
 
 TEST(Beta, DigitsOfTheIntegerPartOfU1) {
-  EXPECT_EQ(DigitsOfIntegerPart(0.5), 1);    // U1 < 1
-  EXPECT_EQ(DigitsOfIntegerPart(9.99), 1);   // integer part 9
+  EXPECT_EQ(DigitsOfIntegerPart(0.5), 1);   // U1 < 1
+  EXPECT_EQ(DigitsOfIntegerPart(9.99), 1);  // integer part 9
   EXPECT_EQ(DigitsOfIntegerPart(10.0), 2);
   EXPECT_EQ(DigitsOfIntegerPart(123.4), 3);
   EXPECT_EQ(DigitsOfIntegerPart(0.0), 1);

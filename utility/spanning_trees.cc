@@ -8,14 +8,15 @@
 #include <unordered_map>
 #include <utility>
 
+#include <cholmod.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <cholmod.h>
 
 namespace aslam {
 namespace {
 
-constexpr double kEigenvalueFloor = 1e-8;  // docs/architecture.md §5: smaller eigenvalues are skipped
+constexpr double kEigenvalueFloor =
+    1e-8;  // docs/architecture.md §5: smaller eigenvalues are skipped
 
 [[noreturn]] void Fail(const char* what) {
   std::fprintf(stderr, "spanning_trees: %s\n", what);
@@ -71,7 +72,8 @@ cholmod_sparse* BuildReducedLaplacian(const WeightedGraph& base, const GraphExte
                                       cholmod_common* common) {
   const int n = base.num_nodes + extension.num_new_nodes - 1;
   const std::size_t max_entries = 3 * (base.edges.size() + extension.edges.size()) + 1;
-  cholmod_triplet* triplet = cholmod_allocate_triplet(n, n, max_entries, /*stype=*/1, CHOLMOD_REAL, common);
+  cholmod_triplet* triplet =
+      cholmod_allocate_triplet(n, n, max_entries, /*stype=*/1, CHOLMOD_REAL, common);
   if (triplet == nullptr) Fail("cholmod_allocate_triplet failed");
   auto* rows = static_cast<int*>(triplet->i);
   auto* cols = static_cast<int*>(triplet->j);
@@ -119,7 +121,8 @@ double DOptimality(const Eigen::Matrix3d& information) {
   // i.e. skipped eigenvalues still count in the 1/3.
   const Eigen::Matrix3d symmetric = 0.5 * (information + information.transpose());
   const Eigen::Vector3d eigenvalues =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(symmetric, Eigen::EigenvaluesOnly)
+          .eigenvalues();
   double sum_log = 0.0;
   int used = 0;
   for (int k = 0; k < 3; ++k) {
@@ -213,11 +216,12 @@ struct IncrementalLogDet::Impl {
   double base_log_det = 0.0;
   Cholmod cholmod;
   cholmod_factor* factor = nullptr;
-  std::vector<int> inverse_perm;  // node k-1 -> permuted position
-  std::vector<double> inverse_d;  // 1 / D, in permuted order
+  std::vector<int> inverse_perm;                 // node k-1 -> permuted position
+  std::vector<double> inverse_d;                 // 1 / D, in permuted order
   std::unordered_map<int, SparseVector> solves;  // by reduced index k-1
-  std::vector<int> etree_parent;  // parent of each permuted column in L's elimination tree; -1 at a root
-  std::vector<double> work;       // all-zero between solves, size n
+  std::vector<int>
+      etree_parent;          // parent of each permuted column in L's elimination tree; -1 at a root
+  std::vector<double> work;  // all-zero between solves, size n
 
   ~Impl() {
     if (factor != nullptr) cholmod_free_factor(&factor, &cholmod.common);
@@ -419,8 +423,7 @@ double IncrementalLogDet::LogDet(const GraphExtension& extension) {
     const Eigen::LLT<Eigen::MatrixXd> s_llt(s_matrix);
     if (s_llt.info() != Eigen::Success) Fail("(A⁻¹)_TT not positive definite");
     const Eigen::MatrixXd r = s_llt.matrixL();
-    const Eigen::MatrixXd q =
-        Eigen::MatrixXd::Identity(t, t) + r.transpose() * w * r;
+    const Eigen::MatrixXd q = Eigen::MatrixXd::Identity(t, t) + r.transpose() * w * r;
     const Eigen::LLT<Eigen::MatrixXd> q_llt(q);
     if (q_llt.info() != Eigen::Success) Fail("I + RᵀWR not positive definite");
     log_det += 2.0 * q_llt.matrixLLT().diagonal().array().log().sum();

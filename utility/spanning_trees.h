@@ -46,7 +46,8 @@ struct GraphExtension {
 
 // log det of the Laplacian of base ∪ extension with node 0's row and column removed.
 double LogDetReducedLaplacianDense(const WeightedGraph& base, const GraphExtension& extension = {});
-double LogDetReducedLaplacianSparse(const WeightedGraph& base, const GraphExtension& extension = {});
+double LogDetReducedLaplacianSparse(const WeightedGraph& base,
+                                    const GraphExtension& extension = {});
 
 // U1 = n^(1/n) · exp(log det / n), n = number of vertices.
 double U1FromLogDet(double log_det, int num_nodes);

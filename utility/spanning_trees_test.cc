@@ -7,8 +7,8 @@
 #include <set>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 namespace aslam {
 namespace {
@@ -63,7 +63,8 @@ TEST(DOptimalityTest, RotatedDiagonalHasTheSameValue) {
 }
 
 TEST(DOptimalityTest, EigenvaluesAtOrBelowFloorAreSkipped) {
-  // diag(8, 27, 0): exp((log 8 + log 27)/3) = (8·27)^(1/3) = 6 (the 1/3 stays, docs/architecture.md §5).
+  // diag(8, 27, 0): exp((log 8 + log 27)/3) = (8·27)^(1/3) = 6 (the 1/3 stays, docs/architecture.md
+  // §5).
   EXPECT_NEAR(DOptimality(Eigen::Vector3d(8, 27, 0).asDiagonal()), 6.0, 1e-12);
   // 1e-9 <= 1e-8: skipped as well, not log(1e-9).
   EXPECT_NEAR(DOptimality(Eigen::Vector3d(8, 27, 1e-9).asDiagonal()), 6.0, 1e-12);

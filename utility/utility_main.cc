@@ -47,10 +47,11 @@ int Run() {
         return 1;
       }
     }
-    std::printf("aslam-utility: stopped; %d decisions, %d goals reached, %d failed, "
-                "%lld messages dropped\n",
-                node.decisions(), node.goals_reached(), node.goals_failed(),
-                static_cast<long long>(node.subscriptions().total_dropped()));
+    std::printf(
+        "aslam-utility: stopped; %d decisions, %d goals reached, %d failed, "
+        "%lld messages dropped\n",
+        node.decisions(), node.goals_reached(), node.goals_failed(),
+        static_cast<long long>(node.subscriptions().total_dropped()));
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aslam-utility: %s\n", e.what());

@@ -32,9 +32,9 @@ OccupancyGrid Room() {
 }
 
 const Pose2d kRobot{1.05, 1.05, 0.0};
-const Point2d kNear{2.05, 1.05};  // 1.0 m east of the robot, by line and by path
-const Point2d kFar{4.05, 2.05};   // ~3.2 m
-const Point2d kNorth{1.05, 3.05}; // 2.0 m
+const Point2d kNear{2.05, 1.05};   // 1.0 m east of the robot, by line and by path
+const Point2d kFar{4.05, 2.05};    // ~3.2 m
+const Point2d kNorth{1.05, 3.05};  // 2.0 m
 
 Frontier MakeFrontier(int id, Point2d target_m) {
   Frontier f;
@@ -253,9 +253,8 @@ TEST(UtilityNode, DoneAfterTheTimeoutWithoutAnEligibleFrontier) {
       EXPECT_THAT(s.detail, HasSubstr("no eligible frontier"));
     }
   }
-  EXPECT_EQ(heartbeat_times,
-            (std::vector<int64_t>{2 * kSecond, 3 * kSecond, 4 * kSecond, 5 * kSecond, 6 * kSecond,
-                                  7 * kSecond}));
+  EXPECT_EQ(heartbeat_times, (std::vector<int64_t>{2 * kSecond, 3 * kSecond, 4 * kSecond,
+                                                   5 * kSecond, 6 * kSecond, 7 * kSecond}));
 
   // A new frontier revives the exploration.
   bench.Frontiers(7'200'000, {MakeFrontier(3, kNorth)});

@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <yaml-cpp/yaml.h>
 
 namespace aslam {
 namespace {
@@ -209,18 +209,10 @@ std::optional<Door> PlaceDoor(const cv::Rect& interior, Side side, Interval span
   }
   cv::Rect opening;
   switch (side) {
-    case Side::kBottom:
-      opening = {position, interior.y - cells.wall, width, cells.wall};
-      break;
-    case Side::kTop:
-      opening = {position, interior.y + interior.height, width, cells.wall};
-      break;
-    case Side::kLeft:
-      opening = {interior.x - cells.wall, position, cells.wall, width};
-      break;
-    case Side::kRight:
-      opening = {interior.x + interior.width, position, cells.wall, width};
-      break;
+    case Side::kBottom: opening = {position, interior.y - cells.wall, width, cells.wall}; break;
+    case Side::kTop: opening = {position, interior.y + interior.height, width, cells.wall}; break;
+    case Side::kLeft: opening = {interior.x - cells.wall, position, cells.wall, width}; break;
+    case Side::kRight: opening = {interior.x + interior.width, position, cells.wall, width}; break;
   }
   return Door{opening, side};
 }
@@ -530,32 +522,22 @@ struct WeightedPiece {
 
 std::vector<WeightedPiece> FurnitureMenu(RoomKind kind) {
   switch (kind) {
-    case RoomKind::kOffice:
-      return {{&kDesk, 3}, {&kCabinet, 2}, {&kShelf, 1}};
-    case RoomKind::kMeeting:
-      return {{&kTableIsland, 2}, {&kCabinet, 1}, {&kShelf, 1}};
-    case RoomKind::kOpenPlan:
-      return {{&kDeskIsland, 3}, {&kDesk, 2}, {&kCabinet, 1}};
-    case RoomKind::kLab:
-      return {{&kBench, 3}, {&kTableIsland, 1}, {&kCabinet, 1}};
-    case RoomKind::kHall:
-      return {{&kTableIsland, 2}, {&kCounter, 1}, {&kCabinet, 1}};
+    case RoomKind::kOffice: return {{&kDesk, 3}, {&kCabinet, 2}, {&kShelf, 1}};
+    case RoomKind::kMeeting: return {{&kTableIsland, 2}, {&kCabinet, 1}, {&kShelf, 1}};
+    case RoomKind::kOpenPlan: return {{&kDeskIsland, 3}, {&kDesk, 2}, {&kCabinet, 1}};
+    case RoomKind::kLab: return {{&kBench, 3}, {&kTableIsland, 1}, {&kCabinet, 1}};
+    case RoomKind::kHall: return {{&kTableIsland, 2}, {&kCounter, 1}, {&kCabinet, 1}};
   }
   return {};
 }
 
 double FillFactor(RoomKind kind) {
   switch (kind) {
-    case RoomKind::kOffice:
-      return 1.1;
-    case RoomKind::kMeeting:
-      return 1.0;
-    case RoomKind::kOpenPlan:
-      return 1.2;
-    case RoomKind::kLab:
-      return 1.2;
-    case RoomKind::kHall:
-      return 0.4;
+    case RoomKind::kOffice: return 1.1;
+    case RoomKind::kMeeting: return 1.0;
+    case RoomKind::kOpenPlan: return 1.2;
+    case RoomKind::kLab: return 1.2;
+    case RoomKind::kHall: return 0.4;
   }
   return 1.0;
 }
@@ -909,12 +891,9 @@ WorldStyle ParseWorldStyle(const std::string& text) {
 
 std::string WorldStyleName(WorldStyle style) {
   switch (style) {
-    case WorldStyle::kCampus:
-      return "campus";
-    case WorldStyle::kOffice:
-      return "office";
-    case WorldStyle::kTest:
-      return "test";
+    case WorldStyle::kCampus: return "campus";
+    case WorldStyle::kOffice: return "office";
+    case WorldStyle::kTest: return "test";
   }
   return "office";
 }

@@ -30,7 +30,9 @@ std::string DefaultName(const std::string& out_dir) {
 
 int Run() {
   if (FLAGS_out.empty() || !(FLAGS_free_area > 0.0)) {
-    std::fprintf(stderr, "aslam-worldgen: --out and a positive --free-area are required (see --helpshort)\n");
+    std::fprintf(
+        stderr,
+        "aslam-worldgen: --out and a positive --free-area are required (see --helpshort)\n");
     return 1;
   }
   try {
@@ -59,8 +61,10 @@ int Run() {
 }  // namespace aslam
 
 int main(int argc, char** argv) {
-  aslam::ParseFlags(&argc, &argv,
-      "aslam-worldgen --out DIR --free-area M2 [--seed N] [--style campus|office|test] [--name NAME]\n"
+  aslam::ParseFlags(
+      &argc, &argv,
+      "aslam-worldgen --out DIR --free-area M2 [--seed N] [--style campus|office|test] [--name "
+      "NAME]\n"
       "Generates an office-like floor plan and writes DIR/map.yaml, DIR/map.pgm, DIR/world.yaml\n"
       "and DIR/README.md.");
   if (argc > 1) {

@@ -1,5 +1,5 @@
-#include "common/world_file.h"
 #include "worlds/worldgen.h"
+#include "common/world_file.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,8 +13,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
+#include <opencv2/imgproc.hpp>
 
 namespace aslam {
 namespace {
