@@ -7,22 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "eval/bench_testing.h"
+
 namespace aslam {
 namespace {
 
 namespace fs = std::filesystem;
-
-void WriteFile(const std::string& path, const std::string& text) {
-  fs::create_directories(fs::path(path).parent_path());
-  std::ofstream(path) << text;
-}
-
-std::string TempDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "/bench_test_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 TEST(PlanBenchTest, SeedMajorOrderAndFolders) {
   BenchOptions options;

@@ -9,30 +9,12 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "eval/bench_testing.h"
+
 namespace aslam {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-int CountLines(const std::string& text) {
-  int n = 0;
-  for (const char c : text) n += c == '\n';
-  return n;
-}
-
-std::string TempDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "/bench_test_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // The whole command on the test world: 2 seeds x 3 methods, every output,
 // then a resumed bench that skips what is finished.

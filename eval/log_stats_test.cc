@@ -17,6 +17,7 @@
 #include "aslam/procman_status_t.hpp"
 #include "aslam/velocity_command_t.hpp"
 #include "common/channels.h"
+#include "common/lcm_log_writer.h"
 
 namespace aslam {
 namespace {
@@ -40,33 +41,11 @@ class TempLogPath {
   std::string path_;
 };
 
-// Writes a synthetic lcm log event by event; the log is complete once the writer is destroyed.
-class LogWriter {
- public:
-  explicit LogWriter(const std::string& path) : log_(path, "w") {
-    if (!log_.good()) throw std::runtime_error("cannot write " + path);
-  }
-
-  template <typename MsgT>
-  void Write(const std::string& channel, int64_t logged_us, const MsgT& msg) {
-    std::vector<uint8_t> bytes(msg.getEncodedSize());
-    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
-              static_cast<int>(bytes.size()));
-    WriteBytes(channel, logged_us, bytes);
-  }
-
-  void WriteBytes(const std::string& channel, int64_t logged_us, std::vector<uint8_t> bytes) {
-    lcm::LogEvent event{};
-    event.timestamp = logged_us;
-    event.channel = channel;
-    event.datalen = static_cast<int32_t>(bytes.size());
-    event.data = bytes.data();
-    ASSERT_EQ(log_.writeEvent(&event), 0);
-  }
-
- private:
-  lcm::LogFile log_;
-};
+// Bytes that are not a message, as a log may hold them.
+void WriteRawBytes(LcmLogWriter* log, const std::string& channel, int64_t logged_us,
+                   std::vector<uint8_t> bytes) {
+  log->WriteBytes(channel, logged_us, bytes.data(), static_cast<int32_t>(bytes.size()));
+}
 
 lidar_scan_t Scan(int64_t utime) {
   lidar_scan_t scan{};
@@ -127,7 +106,7 @@ TEST(NearestRankPercentile, IsTheCeilPTimesNthSmallest) {
 TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     for (int i = 0; i < 100; ++i) {
       const int64_t utime = 5'000'000 + i * 100'000;          // 10 Hz simulated time
       const int64_t scan_logged_us = kStartUs + i * 200'000;  // half real time: 200 ms apart
@@ -154,7 +133,7 @@ TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
 TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(1'000'000));
     log.Write(channels::kCmdVel, kStartUs + 4'000, Command(1'000'000));   // 4 ms
     log.Write(channels::kCmdVel, kStartUs + 50'000, Command(1'050'000));  // no scan at this utime
@@ -174,7 +153,7 @@ TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
 TEST(ComputeLogStats, SecondCommandForAnAnsweredScanIsUnmatched) {
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(7'000'000));
     log.Write(channels::kCmdVel, kStartUs + 3'000, Command(7'000'000));
     log.Write(channels::kCmdVel, kStartUs + 2'000'000, Command(7'000'000));  // the stop
@@ -189,7 +168,7 @@ TEST(ComputeLogStats, SecondCommandForAnAnsweredScanIsUnmatched) {
 TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(100));
     log.Write(channels::kLidarScan, kStartUs + 1'000'000, Scan(200));
     log.Write(channels::kCmdVel, kStartUs + 10'500'000,
@@ -212,7 +191,7 @@ TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
   constexpr int8_t kFailed = procman_process_status_t::STATE_FAILED;
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     const int64_t mib = 1024 * 1024;
     log.Write(channels::kProcmanStatus, kStartUs,
               Status("robot", {Process("aslam-slam", kRunning, 60.0, 100 * mib),
@@ -277,11 +256,11 @@ TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
 TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
   TempLogPath file;
   {
-    LogWriter log(file.path());
+    LcmLogWriter log(file.path());
     log.Write(channels::kLidarScan, kStartUs, Scan(500));
-    log.WriteBytes(channels::kCmdVel, kStartUs + 1'000, {1, 2, 3});
+    WriteRawBytes(&log, channels::kCmdVel, kStartUs + 1'000, {1, 2, 3});
     log.Write(channels::kProcmanStatus, kStartUs + 2'000, Command(500));  // the wrong type
-    log.WriteBytes(channels::kSlamMap, kStartUs + 3'000, {4, 5});         // not read
+    WriteRawBytes(&log, channels::kSlamMap, kStartUs + 3'000, {4, 5});    // not read
     log.Write(channels::kCmdVel, kStartUs + 8'000, Command(500));
     log.Write(channels::kProcmanStatus, kStartUs + 9'000,
               Status("robot", {Process("aslam-nav", kRunning, 12.0, 1024 * 1024)}));

@@ -10,9 +10,8 @@
 #include <optional>
 #include <stdexcept>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include "common/channels.h"
+#include "common/lcm_log_writer.h"
 #include "common/map_io.h"
 #include "common/types_lcm.h"
 #include "common/world_file.h"
@@ -43,32 +42,6 @@ std::optional<Pose2d> OdometryAnchor(const std::vector<TimedPose>& keyframes,
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-// Writes encoded messages as log events stamped with their sim time.
-class LogRecorder {
- public:
-  explicit LogRecorder(const std::string& path) : log_(path, "w") {
-    if (!log_.good()) throw std::runtime_error("cannot write LCM log " + path);
-  }
-  template <typename Msg>
-  void Write(const char* channel, int64_t utime, const Msg& msg) {
-    buffer_.resize(msg.getEncodedSize());
-    msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-    lcm::LogEvent event{};
-    event.timestamp = utime;
-    event.channel = channel;
-    event.datalen = static_cast<int32_t>(buffer_.size());
-    event.data = buffer_.data();
-    if (log_.writeEvent(&event) != 0) throw std::runtime_error("writing the LCM log failed");
-    ++events_;
-  }
-  int64_t events() const { return events_; }
-
- private:
-  lcm::LogFile log_;
-  std::vector<uint8_t> buffer_;
-  int64_t events_ = 0;
-};
 
 // What one drive recorded besides Slam's own state.
 struct DriveRecord {
@@ -123,7 +96,7 @@ void PrintProgress(const Simulator& simulator, const Slam* slam) {
 // Steps the simulator along `drive` until `end_us`, recording its output and
 // feeding it to `slam` (either may be null).
 DriveRecord Drive(const ScriptedDrive& drive, int64_t end_us, double progress_period_s,
-                  Simulator* simulator, Slam* slam, LogRecorder* recorder) {
+                  Simulator* simulator, Slam* slam, LcmLogWriter* recorder) {
   DriveRecord record;
   int64_t rendered_revision = -1;
   int64_t last_render_utime = -1000000000;
@@ -266,9 +239,9 @@ void Run(const SlamBenchOptions& options) {
   Simulator simulator(world.map.grid, world.start, sim_options);
   std::optional<Slam> slam;
   if (options.run_slam) slam.emplace(slam_options);
-  std::unique_ptr<LogRecorder> recorder;
+  std::unique_ptr<LcmLogWriter> recorder;
   if (!options.record_log_path.empty()) {
-    recorder = std::make_unique<LogRecorder>(options.record_log_path);
+    recorder = std::make_unique<LcmLogWriter>(options.record_log_path);
   }
 
   std::printf("aslam-slam-bench: %s, drive %s (%.1f s), seed %llu, running %.1f s\n",

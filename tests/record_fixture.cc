@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <optional>
 #include <set>
 #include <string>
@@ -20,6 +21,7 @@
 
 #include "common/channels.h"
 #include "common/inproc_host.h"
+#include "common/lcm_log_writer.h"
 #include "common/robot_config.h"
 #include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
@@ -37,32 +39,25 @@
 namespace aslam {
 namespace {
 
+// Records the chosen channels as they are published, stamped with simulated time.
 class Recorder {
  public:
   Recorder(lcm::LCM& lcm, const std::string& path, const Simulator& sim,
            std::set<std::string> channels)
-      : log_(path, "w"), sim_(sim), channels_(std::move(channels)) {
+      : log_(path), sim_(sim), channels_(std::move(channels)) {
     lcm.subscribe(".*", &Recorder::OnMessage, this);
   }
-  bool good() const { return log_.good(); }
-  int64_t events() const { return events_; }
+  int64_t events() const { return log_.events(); }
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     if (!channels_.count(channel)) return;
-    lcm::LogEvent event;
-    event.eventnum = events_++;
-    event.timestamp = sim_.utime();
-    event.channel = channel;
-    event.datalen = static_cast<int32_t>(rbuf->data_size);
-    event.data = rbuf->data;
-    log_.writeEvent(&event);
+    log_.WriteBytes(channel, sim_.utime(), rbuf->data, static_cast<int32_t>(rbuf->data_size));
   }
 
-  lcm::LogFile log_;
+  LcmLogWriter log_;
   const Simulator& sim_;
   std::set<std::string> channels_;
-  int64_t events_ = 0;
 };
 
 int Run(const std::string& kind, const std::string& out, double duration_s) {
@@ -88,10 +83,6 @@ int Run(const std::string& kind, const std::string& out, double duration_s) {
           : std::set<std::string>{channels::kSlamMap, channels::kSlamPose, channels::kPoseGraph,
                                   channels::kFrontiers, channels::kUtilityScores,
                                   channels::kExploreGoal});
-  if (!recorder.good()) {
-    std::fprintf(stderr, "record_fixture: cannot write %s\n", out.c_str());
-    return 1;
-  }
   SimNodeOptions sim_options{"test", std::nullopt};
   if (!exploration) sim_options.drive = LoadScriptedDrive(root + "/config/drives/test_loop.yaml");
   SimNode sim_node(host.lcm(), sim, sim_options);
@@ -124,5 +115,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: record_fixture decision|exploration OUT.lcmlog DURATION_S\n");
     return 2;
   }
-  return aslam::Run(argv[1], argv[2], std::atof(argv[3]));
+  try {
+    return aslam::Run(argv[1], argv[2], std::atof(argv[3]));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "record_fixture: %s\n", e.what());
+    return 1;
+  }
 }
