@@ -1,6 +1,6 @@
 #pragma once
 
-// One way to start a program as a child process (docs/architecture.md §3): procman's deputy,
+// One way to start a program as a child process (docs/architecture.md §8): procman's deputy,
 // `aslam explore` in process mode and `aslam bench` all spawn through it. The start is
 // synchronous: Spawn returns once exec has succeeded, or throws saying why it did not (the
 // errno reaches the parent through a close-on-exec pipe). The child gets stdin from /dev/null,
