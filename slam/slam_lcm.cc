@@ -16,7 +16,7 @@ int32_t Saturated(int64_t count) {
 }  // namespace
 
 pose_t SlamPoseToLcm(const StampedPose& pose, const Eigen::Matrix3d& covariance) {
-  pose_t msg = ToLcm(pose, kSlamFrame);
+  pose_t msg = ToLcm(pose, kMapFrame);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) msg.covariance[3 * r + c] = covariance(r, c);
   }
@@ -31,7 +31,7 @@ pose_graph_t SlamGraphToLcm(const Slam& slam, int64_t utime) {
 }
 
 occupancy_grid_t SlamMapToLcm(const OccupancyGrid& map, int64_t utime, int64_t revision) {
-  return ToLcm(map, utime, revision, kSlamFrame);
+  return ToLcm(map, utime, revision, kMapFrame);
 }
 
 }  // namespace aslam

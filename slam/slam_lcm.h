@@ -16,8 +16,6 @@
 
 namespace aslam {
 
-inline constexpr const char* kSlamFrame = "map";
-
 // SLAM_POSE: `pose` in "map" with its covariance over (x_m, y_m, yaw_rad).
 pose_t SlamPoseToLcm(const StampedPose& pose, const Eigen::Matrix3d& covariance);
 

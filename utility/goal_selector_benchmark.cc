@@ -4,7 +4,7 @@
 // and the U1 log dets three ways side by side: incremental, from scratch with
 // CHOLMOD per candidate, dense Eigen for one candidate (full N = 5000).
 //
-//   build-pf/utility/goal_selector_benchmark --benchmark_repetitions=3
+//   build/utility/goal_selector_benchmark --benchmark_repetitions=3
 //       --benchmark_report_aggregates_only=true   (one line)
 //
 // Scene (deterministic, built once per world): the map is the world's ground

@@ -2,7 +2,7 @@
 // graph, log det of the reduced Laplacian the incremental way, from scratch
 // with CHOLMOD, and dense (Eigen, one candidate), side by side.
 //
-//   build-u1/utility/spanning_trees_benchmark
+//   build/utility/spanning_trees_benchmark
 
 #include <algorithm>
 #include <cmath>
