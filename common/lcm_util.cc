@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "common/cpu_time.h"
+
 namespace aslam {
 
 std::string ResolveLcmUrl(const std::string& flag_value) {
@@ -32,6 +34,7 @@ Subscriptions::~Subscriptions() {
 }
 
 void Subscriptions::Entry::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  const double cpu_start_s = ThreadCpuSeconds();
   try {
     switch (decode_and_handle(*rbuf)) {
       case Outcome::kHandled: ++stats.received; break;
@@ -45,6 +48,7 @@ void Subscriptions::Entry::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::
   } catch (...) {
     ++stats.handler_errors;
   }
+  stats.cpu_s += ThreadCpuSeconds() - cpu_start_s;
 }
 
 const ChannelStats& Subscriptions::stats(const std::string& channel) const {
@@ -58,6 +62,12 @@ const ChannelStats& Subscriptions::stats(const std::string& channel) const {
 int64_t Subscriptions::total_dropped() const {
   int64_t total = 0;
   for (const auto& entry : entries_) total += entry->stats.dropped();
+  return total;
+}
+
+double Subscriptions::total_cpu_s() const {
+  double total = 0.0;
+  for (const auto& entry : entries_) total += entry->stats.cpu_s;
   return total;
 }
 

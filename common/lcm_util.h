@@ -29,6 +29,7 @@ struct ChannelStats {
   int64_t decode_failures = 0;  // bytes that are not a valid message of the type
   int64_t rejected = 0;         // decoded, but the handler refused it (invalid content)
   int64_t handler_errors = 0;   // the handler threw; the message was dropped
+  double cpu_s = 0.0;           // this thread's CPU seconds decoding and handling
   int64_t dropped() const { return decode_failures + rejected + handler_errors; }
 };
 
@@ -48,6 +49,8 @@ class Subscriptions {
   const ChannelStats& stats(const std::string& channel) const;
   // Sum of dropped() over all channels.
   int64_t total_dropped() const;
+  // Sum of cpu_s over all channels: what the node's handlers cost.
+  double total_cpu_s() const;
 
  private:
   enum class Outcome { kHandled, kRejected, kDecodeFailed };

@@ -7,6 +7,7 @@
 
 #include "aslam/odometry_t.hpp"
 #include "aslam/velocity_command_t.hpp"
+#include "common/cpu_time.h"
 #include "common/inproc_host.h"
 
 namespace aslam {
@@ -65,6 +66,28 @@ TEST(Subscriptions, DecodesHandlesAndCountsBadMessages) {
   EXPECT_EQ(stats.handler_errors, 1);
   EXPECT_EQ(subs.total_dropped(), 4);
   EXPECT_EQ(subs.stats("NO_SUCH_CHANNEL").received, 0);
+}
+
+TEST(Subscriptions, ChargesEachChannelTheCpuItsHandlerUsed) {
+  InProcessHost host;
+  Subscriptions subs(host.lcm());
+  subs.Add<velocity_command_t>("BUSY", [](const velocity_command_t&) {
+    const double until_s = ThreadCpuSeconds() + 0.02;
+    while (ThreadCpuSeconds() < until_s) {
+    }
+    return true;
+  });
+  subs.Add<velocity_command_t>("IDLE", [](const velocity_command_t&) { return true; });
+  velocity_command_t msg{};
+  host.lcm().publish("BUSY", &msg);
+  host.lcm().publish("IDLE", &msg);
+  host.lcm().publish("BUSY", &msg);
+  host.DispatchPending();
+
+  const double busy_s = subs.stats("BUSY").cpu_s;
+  EXPECT_GE(busy_s, 0.04);
+  EXPECT_LT(subs.stats("IDLE").cpu_s, busy_s / 2);
+  EXPECT_DOUBLE_EQ(subs.total_cpu_s(), busy_s + subs.stats("IDLE").cpu_s);
 }
 
 TEST(Subscriptions, UnsubscribesOnDestruction) {

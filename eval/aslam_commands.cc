@@ -166,9 +166,17 @@ int Explore() {
         m.end_reason.c_str(), m.sim_seconds, m.wall_seconds, 100.0 * m.coverage, m.ate_rmse_m,
         m.keyframes, m.loop_closures, static_cast<long long>(m.collisions), m.goals_reached,
         m.goals_failed);
+    if (m.node_cpu) {
+      const NodeCpu& c = *m.node_cpu;
+      std::printf(
+          "aslam explore: CPU %.1f s (%.1fx simulated per CPU second): slam %.1f, frontier %.1f, "
+          "utility %.1f, nav %.1f, sim %.1f, evaluation %.1f, other %.1f\n",
+          c.total_s(), m.sim_per_cpu.value_or(0.0), c.slam_s, c.frontier_s, c.utility_s, c.nav_s,
+          c.sim_s, c.evaluation_s, c.other_s);
+    }
     std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s}\n",
                 FLAGS_out.c_str(),
-                FLAGS_inproc ? "" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log");
+                FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log");
     if (m.end_reason == "procman-exited") {
       std::fprintf(stderr,
                    "aslam explore: aslam-procman ended before the run did: see %s/procman.log and "

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "aslam/explore_goal_t.hpp"
@@ -12,6 +13,7 @@
 #include "aslam/pose_t.hpp"
 #include "aslam/sim_status_t.hpp"
 #include "common/channels.h"
+#include "common/cpu_time.h"
 #include "common/inproc_host.h"
 #include "common/lcm_util.h"
 #include "common/robot_config.h"
@@ -36,7 +38,24 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr int64_t kCostPeriodUs = 10'000'000;
+constexpr double kRateWindowS = 300.0;
+
 }  // namespace
+
+std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost, double from_s,
+                                             double to_s) {
+  const CostSample* first = nullptr;
+  const CostSample* last = nullptr;
+  for (const CostSample& sample : cost) {
+    if (first == nullptr && sample.t_s >= from_s) first = &sample;
+    if (sample.t_s <= to_s) last = &sample;
+  }
+  if (first == nullptr || last == nullptr || last->t_s <= first->t_s) return std::nullopt;
+  const double cpu_s = last->cpu.total_s() - first->cpu.total_s();
+  if (!(cpu_s > 0)) return std::nullopt;
+  return (last->t_s - first->t_s) / cpu_s;
+}
 
 ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atomic<bool>* stop,
                                   const std::function<void(const ExploreProgress&)>& on_progress) {
@@ -73,31 +92,58 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   NavNode nav_node(host.lcm(), nav_options);
   RunListener listener(host.lcm(), world.map.grid);
 
+  // CPU per node (see NodeCpu): handlers charge their Subscriptions; the
+  // runner times the simulator's ticks and its own evaluation.
+  const double cpu_start_s = ThreadCpuSeconds();
+  double sim_tick_cpu_s = 0.0;
+  double evaluation_cpu_s = 0.0;
+  auto node_cpu = [&] {
+    NodeCpu cpu;
+    cpu.sim_s = sim_tick_cpu_s + sim_node.subscriptions().total_cpu_s();
+    cpu.slam_s = slam_node.subscriptions().total_cpu_s();
+    cpu.frontier_s = frontier_node.subscriptions().total_cpu_s();
+    cpu.utility_s = utility_node.subscriptions().total_cpu_s();
+    cpu.nav_s = nav_node.subscriptions().total_cpu_s();
+    cpu.evaluation_s = evaluation_cpu_s + listener.subscriptions().total_cpu_s();
+    cpu.other_s = ThreadCpuSeconds() - cpu_start_s - cpu.total_s();
+    return cpu;
+  };
+
   ExploreResult result;
   const int64_t end_us = std::llround(options.duration_s * 1e6);
   const int64_t progress_us = std::llround(options.progress_period_s * 1e6);
   int64_t next_sample_us = 1'000'000;
   int64_t next_progress_us = progress_us;
+  int64_t next_cost_us = kCostPeriodUs;
+  result.cost.push_back({0.0, 0.0, node_cpu()});
   bool interrupted = false;
   const Clock::time_point wall_start = Clock::now();
 
-  auto progress = [&] {
-    return listener.Progress(simulator.utime() * 1e-6,
-                             std::chrono::duration<double>(Clock::now() - wall_start).count());
+  auto wall_seconds = [&] {
+    return std::chrono::duration<double>(Clock::now() - wall_start).count();
   };
+  auto progress = [&] { return listener.Progress(simulator.utime() * 1e-6, wall_seconds()); };
 
   host.Run(
       [&] {
         if (simulator.utime() >= end_us) return false;
+        const double tick_start_s = ThreadCpuSeconds();
         sim_node.Tick();
+        sim_tick_cpu_s += ThreadCpuSeconds() - tick_start_s;
         return true;
       },
       [&] {
         const int64_t now_us = simulator.utime();
         if (now_us >= next_sample_us) {
+          const double sample_start_s = ThreadCpuSeconds();
           result.coverage.push_back({now_us * 1e-6, listener.coverage()});
           result.uncertainty.push_back({now_us * 1e-6, listener.mean_edge_d_opt()});
           next_sample_us += 1'000'000;
+          evaluation_cpu_s += ThreadCpuSeconds() - sample_start_s;
+        }
+        if (now_us >= next_cost_us) {
+          result.cost.push_back({now_us * 1e-6, wall_seconds(), node_cpu()});
+          next_cost_us += kCostPeriodUs;
         }
         if (on_progress && progress_us > 0 && now_us >= next_progress_us) {
           on_progress(progress());
@@ -109,14 +155,25 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
         }
         return !listener.done();
       });
-  const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  const double wall_s = wall_seconds();
+  const double sim_s = simulator.utime() * 1e-6;
+  if (result.cost.empty() || result.cost.back().t_s < sim_s) {
+    result.cost.push_back({sim_s, wall_s, node_cpu()});
+  }
 
   // The final state straight from SLAM: newer than its last (rate-limited) SLAM_MAP.
+  const double finish_start_s = ThreadCpuSeconds();
   result.map = slam_node.slam().RenderMap();
   result.graph = slam_node.slam().graph();
-  const double sim_s = simulator.utime() * 1e-6;
   FinishResult(listener, world, options, UtilityMethodName(*method), sim_s, wall_s, &result);
+  evaluation_cpu_s += ThreadCpuSeconds() - finish_start_s;
   RunMetrics& m = result.metrics;
+  m.node_cpu = node_cpu();
+  m.sim_per_cpu = SimSecondsPerCpuSecond(result.cost, 0.0, sim_s);
+  if (sim_s >= 2 * kRateWindowS) {  // two disjoint windows, to compare
+    m.sim_per_cpu_first_300s = SimSecondsPerCpuSecond(result.cost, 0.0, kRateWindowS);
+    m.sim_per_cpu_last_300s = SimSecondsPerCpuSecond(result.cost, sim_s - kRateWindowS, sim_s);
+  }
   m.collisions = simulator.collisions();
   m.goals_reached = utility_node.goals_reached();
   m.goals_failed = utility_node.goals_failed();

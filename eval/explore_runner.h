@@ -59,6 +59,35 @@ struct UncertaintySample {
   double mean_edge_d_opt = 0.0;
 };
 
+// CPU seconds per hosted node of an in-process run: each algorithm node's
+// message handlers, the simulator's ticks and handlers, evaluation (the
+// runner's listener, samples and final metrics), and `other` (the rest of the
+// process: the bus's dispatch, loading). The six add up to the process's CPU.
+struct NodeCpu {
+  double sim_s = 0.0;
+  double slam_s = 0.0;
+  double frontier_s = 0.0;
+  double utility_s = 0.0;
+  double nav_s = 0.0;
+  double evaluation_s = 0.0;
+  double other_s = 0.0;
+  double total_s() const {
+    return sim_s + slam_s + frontier_s + utility_s + nav_s + evaluation_s + other_s;
+  }
+};
+
+// The cost of a run so far, every 10 simulated seconds and at the end (cost.csv).
+struct CostSample {
+  double t_s = 0.0;     // simulated
+  double wall_s = 0.0;  // since the run started
+  NodeCpu cpu;          // cumulative
+};
+
+// Simulated seconds per CPU second between the first sample at or after
+// `from_s` and the last at or before `to_s`; nullopt when they do not span time.
+std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost, double from_s,
+                                             double to_s);
+
 // What metrics.json holds.
 struct RunMetrics {
   std::string world;
@@ -95,12 +124,20 @@ struct RunMetrics {
   double d_opt_difference = 0.0;
   double d_opt_reduction_percent = 0.0;
   Pose2d map_in_world;  // where the SLAM map lies in the world (for plots over the truth)
+  // In-process runs only (process mode has process_stats.json): CPU per node, and
+  // simulated seconds per CPU second over the whole run and, in runs of 600 s or
+  // more, its first and last 300 s (wall-clock figures: not deterministic).
+  std::optional<NodeCpu> node_cpu;
+  std::optional<double> sim_per_cpu;
+  std::optional<double> sim_per_cpu_first_300s;
+  std::optional<double> sim_per_cpu_last_300s;
 };
 
 struct ExploreResult {
   RunMetrics metrics;
   std::vector<CoverageSample> coverage;           // one per simulated second, then the final map's
   std::vector<UncertaintySample> uncertainty;     // same times as `coverage`
+  std::vector<CostSample> cost;                   // in-process runs only
   OccupancyGrid map;                              // final SLAM map, "map" (empty if none)
   PoseGraph graph;                                // final pose graph, "map"
   std::vector<Pose2d> slam_path;                  // SLAM_POSE re-anchored to the final graph, "map"

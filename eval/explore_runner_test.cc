@@ -35,6 +35,37 @@ std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
+// Every node is charged CPU, the parts add up, and the timeline is cumulative.
+void ExpectCostAccounted(const ExploreResult& r) {
+  const RunMetrics& m = r.metrics;
+  ASSERT_TRUE(m.node_cpu.has_value());
+  const NodeCpu& cpu = *m.node_cpu;
+  for (const double node_s :
+       {cpu.sim_s, cpu.slam_s, cpu.frontier_s, cpu.utility_s, cpu.nav_s, cpu.evaluation_s}) {
+    EXPECT_GT(node_s, 0.0);
+  }
+  EXPECT_GE(cpu.other_s, 0.0);
+  EXPECT_NEAR(cpu.total_s(),
+              cpu.sim_s + cpu.slam_s + cpu.frontier_s + cpu.utility_s + cpu.nav_s +
+                  cpu.evaluation_s + cpu.other_s,
+              1e-12);
+  ASSERT_GE(r.cost.size(), 2u);
+  EXPECT_EQ(r.cost.front().t_s, 0.0);
+  EXPECT_NEAR(r.cost.back().t_s, m.sim_seconds, 1e-9);
+  for (std::size_t i = 1; i < r.cost.size(); ++i) {
+    EXPECT_GT(r.cost[i].t_s, r.cost[i - 1].t_s);
+    EXPECT_GE(r.cost[i].cpu.slam_s, r.cost[i - 1].cpu.slam_s);
+    EXPECT_GE(r.cost[i].cpu.total_s(), r.cost[i - 1].cpu.total_s());
+  }
+  // The run's last cost sample precedes the final evaluation, which is charged too.
+  EXPECT_GT(cpu.evaluation_s, r.cost.back().cpu.evaluation_s);
+  ASSERT_TRUE(m.sim_per_cpu.has_value());
+  const double run_cpu_s = r.cost.back().cpu.total_s() - r.cost.front().cpu.total_s();
+  EXPECT_NEAR(*m.sim_per_cpu, m.sim_seconds / run_cpu_s, 1e-9 * *m.sim_per_cpu);
+  EXPECT_EQ(m.sim_per_cpu_first_300s.has_value(), m.sim_seconds >= 600.0);
+  EXPECT_EQ(m.sim_per_cpu_last_300s.has_value(), m.sim_seconds >= 600.0);
+}
+
 class ExploreMethodTest : public ::testing::TestWithParam<std::string> {};
 
 // Issue 6: each method explores the test world to `done`, >= 95 % covered, without touching a wall.
@@ -53,6 +84,7 @@ TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
   EXPECT_LT(*m.time_to_90_coverage_s, m.sim_seconds + 1e-9);
   EXPECT_FALSE(r.map.empty());
   EXPECT_EQ(static_cast<int>(r.graph.nodes.size()), m.keyframes);
+  ExpectCostAccounted(r);
   std::printf(
       "[ measured ] %s: coverage %.4f, done at %.1f s, ATE RMSE %.3f m, %d keyframes, "
       "%d loop closures, goals %d reached %d failed\n",
@@ -68,7 +100,11 @@ INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest, ::testing::Values("fd", "ag
 TEST(ExploreRunnerTest, SameSeedGivesIdenticalMetricsAndTimeline) {
   ExploreResult a = RunExploreInProcess(TestWorld("ours"));
   ExploreResult b = RunExploreInProcess(TestWorld("ours"));
-  a.metrics.wall_seconds = b.metrics.wall_seconds = 0.0;
+  for (RunMetrics* m : {&a.metrics, &b.metrics}) {  // the clock's figures
+    m->wall_seconds = 0.0;
+    m->node_cpu.reset();
+    m->sim_per_cpu.reset();
+  }
   EXPECT_EQ(MetricsToJson(a.metrics), MetricsToJson(b.metrics));
   EXPECT_EQ(CoverageToCsv(a.coverage), CoverageToCsv(b.coverage));
   ASSERT_EQ(a.graph.nodes.size(), b.graph.nodes.size());
@@ -158,6 +194,24 @@ TEST(ExploreRunnerTest, DurationEndsTheRun) {
   EXPECT_EQ(r.metrics.end_reason, "duration");
   EXPECT_NEAR(r.metrics.sim_seconds, 5.0, 1e-6);
   EXPECT_EQ(r.coverage.size(), 5u);  // one per simulated second, the last the final map's
+}
+
+TEST(ExploreRunnerTest, RateIsSimulatedOverCpuSecondsBetweenTheWindowsSamples) {
+  auto sample = [](double t_s, double slam_s, double nav_s) {
+    CostSample s;
+    s.t_s = t_s;
+    s.cpu.slam_s = slam_s;
+    s.cpu.nav_s = nav_s;
+    return s;
+  };
+  const std::vector<CostSample> cost = {sample(0, 0.5, 0), sample(10, 1.0, 0.5),
+                                        sample(20, 2.0, 1.0), sample(30, 4.0, 2.0)};
+  EXPECT_DOUBLE_EQ(*SimSecondsPerCpuSecond(cost, 0, 30), 30.0 / 5.5);
+  EXPECT_DOUBLE_EQ(*SimSecondsPerCpuSecond(cost, 5, 25), 10.0 / 1.5);  // samples at 10 and 20
+  EXPECT_DOUBLE_EQ(*SimSecondsPerCpuSecond(cost, 20, 30), 10.0 / 3.0);
+  EXPECT_FALSE(SimSecondsPerCpuSecond(cost, 25, 29).has_value());  // no sample inside
+  EXPECT_FALSE(SimSecondsPerCpuSecond(cost, 30, 30).has_value());  // no time spanned
+  EXPECT_FALSE(SimSecondsPerCpuSecond({}, 0, 30).has_value());
 }
 
 TEST(ExploreRunnerTest, BadInputsThrowBeforeRunning) {

@@ -41,6 +41,7 @@ class RunListener {
   // The last report of a run: the final graph's and map's figures.
   ExploreProgress FinalProgress(const RunMetrics& metrics, double sim_s, double wall_s);
 
+  const Subscriptions& subscriptions() const { return subscriptions_; }
   bool heard_sim() const { return heard_sim_; }
   int64_t sim_utime() const { return sim_utime_; }
   const std::vector<TimedPose>& truth() const { return truth_; }

@@ -12,6 +12,7 @@
 
 #include "common/json_text.h"
 #include "common/map_io.h"
+#include "common/text_format.h"
 #include "slam/g2o_io.h"
 
 namespace aslam {
@@ -21,6 +22,21 @@ void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
   if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+std::string OptionalNumber(const std::optional<double>& value) {
+  return value ? JsonNumber(*value) : "null";
+}
+
+std::string NodeCpuJson(const NodeCpu& cpu) {
+  return JsonObject({{"sim", JsonNumber(cpu.sim_s)},
+                     {"slam", JsonNumber(cpu.slam_s)},
+                     {"frontier", JsonNumber(cpu.frontier_s)},
+                     {"utility", JsonNumber(cpu.utility_s)},
+                     {"nav", JsonNumber(cpu.nav_s)},
+                     {"evaluation", JsonNumber(cpu.evaluation_s)},
+                     {"other", JsonNumber(cpu.other_s)},
+                     {"total", JsonNumber(cpu.total_s())}});
 }
 
 }  // namespace
@@ -40,8 +56,7 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"goals_reached", std::to_string(m.goals_reached)},
       {"goals_failed", std::to_string(m.goals_failed)},
       {"done", m.done ? "true" : "false"},
-      {"time_to_90_coverage_s",
-       m.time_to_90_coverage_s ? JsonNumber(*m.time_to_90_coverage_s) : "null"},
+      {"time_to_90_coverage_s", OptionalNumber(m.time_to_90_coverage_s)},
       {"end_reason", JsonString(m.end_reason)},
       {"decisions", std::to_string(m.decisions)},
       {"ate_max_m", JsonNumber(m.ate_max_m)},
@@ -62,6 +77,10 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"map_in_world_x_m", JsonNumber(m.map_in_world.x_m)},
       {"map_in_world_y_m", JsonNumber(m.map_in_world.y_m)},
       {"map_in_world_yaw_rad", JsonNumber(m.map_in_world.yaw_rad)},
+      {"sim_per_cpu", OptionalNumber(m.sim_per_cpu)},
+      {"sim_per_cpu_first_300s", OptionalNumber(m.sim_per_cpu_first_300s)},
+      {"sim_per_cpu_last_300s", OptionalNumber(m.sim_per_cpu_last_300s)},
+      {"node_cpu_s", m.node_cpu ? NodeCpuJson(*m.node_cpu) : "null"},
   };
   std::string out = "{\n";
   for (std::size_t i = 0; i < fields.size(); ++i) {
@@ -69,6 +88,19 @@ std::string MetricsToJson(const RunMetrics& m) {
     out += i + 1 < fields.size() ? ",\n" : "\n";
   }
   return out + "}\n";
+}
+
+std::string CostToCsv(const std::vector<CostSample>& samples) {
+  std::string out =
+      "t_s,wall_s,sim_cpu_s,slam_cpu_s,frontier_cpu_s,utility_cpu_s,nav_cpu_s,"
+      "evaluation_cpu_s,other_cpu_s,total_cpu_s\n";
+  for (const CostSample& s : samples) {
+    const NodeCpu& c = s.cpu;
+    out += Format("%.3f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", s.t_s, s.wall_s, c.sim_s,
+                  c.slam_s, c.frontier_s, c.utility_s, c.nav_s, c.evaluation_s, c.other_s,
+                  c.total_s());
+  }
+  return out;
 }
 
 std::string CoverageToCsv(const std::vector<CoverageSample>& samples) {
@@ -184,6 +216,7 @@ void WriteRunFolder(const ExploreResult& result, const std::string& dir) {
   WriteG2o(result.graph, dir + "/graph.g2o");
   WriteText(dir + "/coverage.csv", CoverageToCsv(result.coverage));
   WriteText(dir + "/uncertainty.csv", UncertaintyToCsv(result.uncertainty));
+  if (!result.cost.empty()) WriteText(dir + "/cost.csv", CostToCsv(result.cost));
   WriteText(dir + "/metrics.json", MetricsToJson(result.metrics));
 }
 

@@ -2,8 +2,8 @@
 
 // The run folder of `aslam explore`: map.yaml + map.pgm (ROS map_server),
 // map.png (the map with pose graph, path and frontiers drawn over it),
-// graph.g2o, coverage.csv (t_s,coverage), uncertainty.csv (t_s,mean_edge_d_opt)
-// and metrics.json.
+// graph.g2o, coverage.csv (t_s,coverage), uncertainty.csv (t_s,mean_edge_d_opt),
+// cost.csv (in-process runs: CPU per node over simulated time) and metrics.json.
 
 #include <optional>
 #include <string>
@@ -18,6 +18,10 @@ namespace aslam {
 // metrics.json's text: one JSON object, keys in a fixed order, one per line;
 // a missing time_to_90_coverage_s is null. Same metrics, same text.
 std::string MetricsToJson(const RunMetrics& metrics);
+
+// cost.csv's text: a header, then per sample t_s, wall_s and the cumulative
+// CPU seconds of each node and in total.
+std::string CostToCsv(const std::vector<CostSample>& samples);
 
 // coverage.csv's text: a `t_s,coverage` header, then one row per sample.
 std::string CoverageToCsv(const std::vector<CoverageSample>& samples);

@@ -76,6 +76,45 @@ TEST(MetricsJsonTest, MissingAndNonFiniteValuesAreNull) {
   EXPECT_EQ(text.find("nan"), std::string::npos);
 }
 
+TEST(MetricsJsonTest, NodeCpuIsAnObjectWithTheTotal) {
+  RunMetrics m = SampleMetrics();
+  EXPECT_TRUE(YAML::Load(MetricsToJson(m))["node_cpu_s"].IsNull());  // process mode
+  NodeCpu cpu;
+  cpu.sim_s = 0.5;
+  cpu.slam_s = 2.0;
+  cpu.frontier_s = 1.0;
+  cpu.utility_s = 0.75;
+  cpu.nav_s = 1.25;
+  cpu.evaluation_s = 0.25;
+  cpu.other_s = 0.125;
+  m.node_cpu = cpu;
+  m.sim_per_cpu = 31.0;
+  const YAML::Node json = YAML::Load(MetricsToJson(m));
+  const YAML::Node nodes = json["node_cpu_s"];
+  ASSERT_TRUE(nodes.IsMap());
+  EXPECT_DOUBLE_EQ(nodes["slam"].as<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(nodes["nav"].as<double>(), 1.25);
+  EXPECT_DOUBLE_EQ(nodes["other"].as<double>(), 0.125);
+  EXPECT_DOUBLE_EQ(nodes["total"].as<double>(), 5.875);
+  EXPECT_DOUBLE_EQ(json["sim_per_cpu"].as<double>(), 31.0);
+  EXPECT_TRUE(json["sim_per_cpu_last_300s"].IsNull());
+}
+
+TEST(CostCsvTest, OneRowPerSampleWithCumulativeTotals) {
+  NodeCpu cpu;
+  cpu.frontier_s = 0.5;
+  cpu.utility_s = 0.25;
+  const std::string text = CostToCsv({{0.0, 0.0, NodeCpu{}}, {10.0, 1.5, cpu}});
+  std::istringstream lines(text);
+  std::string header, first, second, extra;
+  std::getline(lines, header);
+  std::getline(lines, first);
+  std::getline(lines, second);
+  EXPECT_FALSE(std::getline(lines, extra));
+  EXPECT_EQ(header.rfind("t_s,wall_s,sim_cpu_s,slam_cpu_s,frontier_cpu_s,", 0), 0u) << header;
+  EXPECT_EQ(second, "10.000,1.500,0.0000,0.0000,0.5000,0.2500,0.0000,0.0000,0.0000,0.7500");
+}
+
 TEST(MetricsJsonTest, SameMetricsSameText) {
   EXPECT_EQ(MetricsToJson(SampleMetrics()), MetricsToJson(SampleMetrics()));
 }
@@ -110,6 +149,11 @@ ExploreResult SmallResult() {
   r.graph.edges = {e01, e12, e02};
   r.slam_path = {{0.0, 0.0, 0.0}, {0.3, 0.05, 0.0}, {0.6, 0.1, 0.3}};
   r.frontiers_m = {{{0.5, 0.2}, {0.55, 0.2}}};
+  NodeCpu cpu;
+  cpu.slam_s = 1.5;
+  cpu.nav_s = 0.25;
+  r.cost = {{0.0, 0.0, NodeCpu{}}, {10.0, 0.5, cpu}};
+  r.metrics.node_cpu = cpu;
   return r;
 }
 
@@ -150,6 +194,7 @@ TEST(RunFolderTest, WritesEveryFileReadableByItsReader) {
   EXPECT_EQ(graph.edges.size(), 3u);
   EXPECT_EQ(ReadFile(dir + "/coverage.csv"), CoverageToCsv(r.coverage));
   EXPECT_EQ(ReadFile(dir + "/metrics.json"), MetricsToJson(r.metrics));
+  EXPECT_EQ(ReadFile(dir + "/cost.csv"), CostToCsv(r.cost));
   std::filesystem::remove_all(dir);
 }
 
