@@ -243,4 +243,68 @@ void ConfigReader::CheckAllKeysUsed() const {
   Walker{*this}.Walk(node_, path_);
 }
 
+std::string ConfigOverride::Key() const {
+  std::string key;
+  for (const std::string& part : path) key = Join(key, part);
+  return key;
+}
+
+ConfigOverride ParseConfigOverride(const std::string& argument) {
+  const std::string where = "--set '" + argument + "': ";
+  const std::size_t equals = argument.find('=');
+  if (equals == std::string::npos) throw ConfigError(where + "expected KEY=VALUE");
+  ConfigOverride result;
+  const std::string key = argument.substr(0, equals);
+  if (key.empty()) throw ConfigError(where + "empty key before '='");
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', begin);
+    result.path.push_back(key.substr(begin, dot - begin));
+    if (result.path.back().empty()) throw ConfigError(where + "empty part in key '" + key + "'");
+    if (dot == std::string::npos) break;
+    begin = dot + 1;
+  }
+  result.value = argument.substr(equals + 1);
+  if (result.value.find_first_not_of(" \t") == std::string::npos) {
+    throw ConfigError(where + "empty value after '=' (write \"\" for an empty string)");
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(result.value);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(where + "malformed YAML value: " + e.msg);
+  }
+  if (value.IsMap()) throw ConfigError(where + "expected a scalar or a [flow, sequence]");
+  return result;
+}
+
+std::string ApplyConfigOverrides(const std::string& config_file,
+                                 const std::vector<ConfigOverride>& overrides) {
+  const std::string origin = config_file.empty() ? "<defaults>" : config_file;
+  YAML::Node root = config_file.empty() ? YAML::Node(YAML::NodeType::Map) : ParseFile(config_file);
+  if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap()) throw ConfigError(origin + ": expected a mapping of sections at top level");
+  for (const ConfigOverride& override_ : overrides) {
+    // yaml-cpp nodes are references: reset() rebinds, assignment would overwrite the value.
+    YAML::Node node = root;
+    std::string prefix;
+    for (std::size_t i = 0; i + 1 < override_.path.size(); ++i) {
+      prefix = Join(prefix, override_.path[i]);
+      YAML::Node child = node[override_.path[i]];
+      if (!child.IsDefined() || child.IsNull()) {
+        child = YAML::Node(YAML::NodeType::Map);
+      } else if (!child.IsMap()) {
+        throw ConfigError("--set '" + override_.Key() + "=" + override_.value + "': " + origin +
+                          LineOf(child) + ": " + prefix + " = " + Describe(child) +
+                          " is not a mapping");
+      }
+      node.reset(child);
+    }
+    node[override_.path.back()] = YAML::Load(override_.value);
+  }
+  YAML::Emitter emitter;
+  emitter << root;
+  return std::string(emitter.c_str()) + "\n";
+}
+
 }  // namespace aslam

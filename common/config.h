@@ -86,4 +86,23 @@ class ConfigReader {
   std::shared_ptr<std::set<std::string>> used_paths_;
 };
 
+// One `--set KEY=VALUE` override of a config file: a dotted key path and a YAML value.
+struct ConfigOverride {
+  std::vector<std::string> path;  // "utility.lambda" -> {"utility", "lambda"}
+  std::string value;              // YAML text: a scalar ("0.3") or a flow sequence ("[1, 2]")
+  std::string Key() const;        // the dotted path again
+};
+
+// Parses "a.b.c=VALUE" (split at the first '='). Throws ConfigError naming `argument` for no '=',
+// an empty key or key part, an empty value, or a value that is not a YAML scalar or flow
+// sequence. Whether the key exists is left to the components' loaders (CheckAllKeysUsed).
+ConfigOverride ParseConfigOverride(const std::string& argument);
+
+// The YAML text of `config_file` ("" = the empty defaults) with every override set at its path,
+// in order (a later one wins), creating mappings as needed. Comments are not kept. Throws
+// ConfigError for an unreadable or malformed file, or a path through a value that is not a
+// mapping.
+std::string ApplyConfigOverrides(const std::string& config_file,
+                                 const std::vector<ConfigOverride>& overrides);
+
 }  // namespace aslam

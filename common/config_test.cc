@@ -146,5 +146,76 @@ TEST(ConfigReader, FileErrorsNameTheFile) {
               AllOf(HasSubstr(path.string() + ":3"), HasSubstr("sim.beams"), HasSubstr("'7.5'")));
 }
 
+TEST(ConfigOverride, ParsesDottedKeyAndYamlValue) {
+  const ConfigOverride scalar = ParseConfigOverride("utility.hallucination.loop_closure_scale=1.5");
+  EXPECT_EQ(scalar.path,
+            (std::vector<std::string>{"utility", "hallucination", "loop_closure_scale"}));
+  EXPECT_EQ(scalar.Key(), "utility.hallucination.loop_closure_scale");
+  EXPECT_EQ(scalar.value, "1.5");
+  // Split at the first '=': the value may hold one.
+  EXPECT_EQ(ParseConfigOverride("a=b=c").value, "b=c");
+  EXPECT_EQ(ParseConfigOverride("sim.gains=[1, 2.5]").value, "[1, 2.5]");
+}
+
+TEST(ConfigOverride, BadSyntaxNamesTheArgument) {
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("utility.lambda"); }),
+              AllOf(HasSubstr("'utility.lambda'"), HasSubstr("KEY=VALUE")));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("=0.3"); }),
+              AllOf(HasSubstr("'=0.3'"), HasSubstr("empty key")));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("utility..lambda=0.3"); }),
+              AllOf(HasSubstr("'utility..lambda=0.3'"), HasSubstr("empty part")));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("utility.=0.3"); }), HasSubstr("empty part"));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride(".lambda=0.3"); }), HasSubstr("empty part"));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("utility.lambda="); }),
+              AllOf(HasSubstr("'utility.lambda='"), HasSubstr("empty value")));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("sim.gains=[1, 2"); }),
+              AllOf(HasSubstr("'sim.gains=[1, 2'"), HasSubstr("malformed YAML")));
+  EXPECT_THAT(ErrorOf([] { ParseConfigOverride("sim.inner={size_m: 1}"); }),
+              HasSubstr("expected a scalar or a [flow, sequence]"));
+}
+
+// The overridden text read back: nested paths are created, existing values replaced, every
+// other key kept, and no override means the file's own content.
+TEST(ConfigOverride, AppliesAtNestedPathsOfAFile) {
+  const std::string file = ::testing::TempDir() + "/aslam_config_override.yaml";
+  std::ofstream(file) << "# a comment\nsim:\n  rate_hz: 20\n  gains: [1]\nutility:\n  "
+                         "method: fd\n";
+  const std::string text = ApplyConfigOverrides(
+      file, {ParseConfigOverride("sim.rate_hz=5"), ParseConfigOverride("sim.gains=[3, 4.5]"),
+             ParseConfigOverride("sim.inner.size_m=1.5"), ParseConfigOverride("nav.a.b.c=x"),
+             ParseConfigOverride("sim.rate_hz=7")});
+  const YAML::Node root = YAML::Load(text);
+  EXPECT_EQ(root["sim"]["rate_hz"].as<double>(), 7.0);  // the later override wins
+  EXPECT_EQ(root["sim"]["gains"].as<std::vector<double>>(), (std::vector<double>{3.0, 4.5}));
+  EXPECT_EQ(root["sim"]["inner"]["size_m"].as<double>(), 1.5);
+  EXPECT_EQ(root["nav"]["a"]["b"]["c"].as<std::string>(), "x");
+  EXPECT_EQ(root["utility"]["method"].as<std::string>(), "fd");
+  // What a component reads from it: the loaders see the overridden values.
+  const auto options = LoadExample(ConfigReader::FromString(text, "sim"));
+  EXPECT_DOUBLE_EQ(options.rate_hz, 7.0);
+  EXPECT_EQ(options.gains, (std::vector<double>{3.0, 4.5}));
+  EXPECT_DOUBLE_EQ(options.inner_m, 1.5);
+
+  EXPECT_EQ(YAML::Load(ApplyConfigOverrides(file, {}))["sim"]["rate_hz"].as<int>(), 20);
+  std::filesystem::remove(file);
+}
+
+TEST(ConfigOverride, NoFileMeansEmptyDefaults) {
+  EXPECT_EQ(ApplyConfigOverrides("", {}), "{}\n");
+  const YAML::Node root = YAML::Load(ApplyConfigOverrides("", {ParseConfigOverride("a.b=1")}));
+  EXPECT_EQ(root.size(), 1u);
+  EXPECT_EQ(root["a"]["b"].as<int>(), 1);
+}
+
+TEST(ConfigOverride, PathThroughAValueIsAnError) {
+  EXPECT_THAT(ErrorOf([] {
+                ApplyConfigOverrides("", {ParseConfigOverride("sim.rate_hz=5"),
+                                          ParseConfigOverride("sim.rate_hz.x=1")});
+              }),
+              AllOf(HasSubstr("sim.rate_hz.x=1"), HasSubstr("sim.rate_hz = '5' is not a mapping")));
+  EXPECT_THAT(ErrorOf([] { ApplyConfigOverrides("/nonexistent/aslam.yaml", {}); }),
+              HasSubstr("/nonexistent/aslam.yaml"));
+}
+
 }  // namespace
 }  // namespace aslam

@@ -8,15 +8,18 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <gflags/gflags.h>
 
+#include "common/config.h"
 #include "common/flags.h"
 #include "common/pose2d.h"
 #include "eval/bench.h"
@@ -54,10 +57,16 @@ namespace {
 
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
-    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE] --out DIR\n"
+    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE]\n"
+    "              [--set KEY=VALUE ...] --out DIR\n"
     "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
-    "            [--start X,Y,YAW] [--config FILE] [--noplots] [--report_only] --out DIR\n"
-    "aslam log-stats RUN/run.lcmlog";
+    "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
+    "            [--report_only] --out DIR\n"
+    "aslam log-stats RUN/run.lcmlog\n"
+    "--set KEY=VALUE overrides one config key, e.g. --set utility.lambda=1.2 (repeatable; VALUE\n"
+    "is YAML: a scalar or [a, list]); explore records the result as OUT/config.yaml. bench\n"
+    "sweeps the grid of every --set's values: OUT/runs/<setting>/..., e.g. the setting\n"
+    "utility.lambda=0.3+nav.goal_snap_m=0.1; tables per setting and sweep.md.";
 
 std::atomic<bool> g_stop{false};
 
@@ -97,7 +106,27 @@ void PrintProgress(const ExploreProgress& p, bool terminal) {
   std::fflush(stdout);
 }
 
-int Explore() {
+// With --set: OUT/config.yaml, the run's effective config (--config, the overrides, --method and
+// --seed), which the run then reads.
+std::string WriteEffectiveConfig(const ExploreOptions& options,
+                                 std::vector<ConfigOverride> overrides, const std::string& out) {
+  std::string text = "# written by aslam explore: " +
+                     (options.config_file.empty() ? "built-in defaults" : options.config_file);
+  for (const ConfigOverride& o : overrides) text += " --set " + o.Key() + "=" + o.value;
+  text += "; utility.method and sim.seed as --method and --seed\n";
+  overrides.push_back(ParseConfigOverride("utility.method=" + options.method));
+  overrides.push_back(ParseConfigOverride("sim.seed=" + std::to_string(options.seed)));
+  text += ApplyConfigOverrides(options.config_file, overrides);
+  std::filesystem::create_directories(out);
+  const std::string path = out + "/config.yaml";
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file << text;
+  file.close();
+  if (!file) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+int Explore(const std::vector<std::string>& sets) {
   if (FLAGS_world.empty() || FLAGS_out.empty()) {
     std::fprintf(stderr, "aslam explore: --world and --out are required\nusage: %s\n", kUsage);
     return 2;
@@ -114,8 +143,23 @@ int Explore() {
   options.config_file = FLAGS_config;
   options.progress_period_s = FLAGS_progress;
   if (!ParseStartFlag("explore", &options.start)) return 2;
+  std::vector<ConfigOverride> overrides;
+  try {
+    for (const std::string& set : sets) {
+      overrides.push_back(ParseConfigOverride(set));
+      CheckRunOverride(overrides.back());
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam explore: %s\n", e.what());
+    return 2;
+  }
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
+    if (!overrides.empty()) {
+      options.config_file = WriteEffectiveConfig(options, overrides, FLAGS_out);
+      std::printf("aslam explore: config with %zu --set: %s\n", overrides.size(),
+                  options.config_file.c_str());
+    }
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     const auto on_progress = [&](const ExploreProgress& p) {
@@ -174,9 +218,10 @@ int Explore() {
           c.total_s(), m.sim_per_cpu.value_or(0.0), c.slam_s, c.frontier_s, c.utility_s, c.nav_s,
           c.sim_s, c.evaluation_s, c.other_s);
     }
-    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s}\n",
+    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s%s}\n",
                 FLAGS_out.c_str(),
-                FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log");
+                FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log",
+                FLAGS_inproc && !overrides.empty() ? ",config.yaml" : "");
     if (m.end_reason == "procman-exited") {
       std::fprintf(stderr,
                    "aslam explore: aslam-procman ended before the run did: see %s/procman.log and "
@@ -221,8 +266,9 @@ void PrintBenchProgress(const BenchProgress& p, bool terminal) {
   std::fflush(stdout);
 }
 
-int Bench() {
+int Bench(const std::vector<std::string>& sets) {
   BenchOptions options;
+  options.sweep = sets;
   options.worlds = SplitList(FLAGS_worlds);
   options.methods = SplitList(FLAGS_methods);
   options.seeds = FLAGS_seeds;
@@ -242,10 +288,12 @@ int Bench() {
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     const std::vector<BenchRun> runs = PlanBench(options);
+    const std::string settings =
+        sets.empty() ? "" : std::to_string(PlanSettings(sets).size()) + " settings x ";
     std::printf(
-        "aslam bench: %zu runs (%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %d at "
-        "a time, in %s\n",
-        runs.size(), options.worlds.size(), options.methods.size(), options.seeds,
+        "aslam bench: %zu runs (%s%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %d "
+        "at a time, in %s\n",
+        runs.size(), settings.c_str(), options.worlds.size(), options.methods.size(), options.seeds,
         options.duration_s, options.jobs, options.out_dir.c_str());
     std::fflush(stdout);
     if (FLAGS_report_only) {
@@ -292,6 +340,29 @@ int LogStatsCommand(const std::vector<std::string>& paths) {
 
 }  // namespace
 
+std::vector<std::string> TakeSetArguments(std::vector<char*>* args) {
+  std::vector<std::string> sets;
+  for (std::size_t i = 1; i < args->size();) {
+    const std::string arg = (*args)[i];
+    if (arg == "--") break;  // gflags' end of flags
+    const std::size_t dashes = arg.rfind("--", 0) == 0 ? 2 : arg.rfind('-', 0) == 0 ? 1 : 0;
+    const std::string name = arg.substr(dashes, arg.find('=') - dashes);
+    if (dashes == 0 || name != "set") {
+      ++i;
+      continue;
+    }
+    if (arg.find('=') != std::string::npos) {
+      sets.push_back(arg.substr(arg.find('=') + 1));
+      args->erase(args->begin() + i);
+      continue;
+    }
+    if (i + 1 >= args->size()) throw std::invalid_argument("--set needs KEY=VALUE");
+    sets.push_back((*args)[i + 1]);
+    args->erase(args->begin() + i, args->begin() + i + 2);
+  }
+  return sets;
+}
+
 int RunAslamCommand(int argc, char** argv) {
   const bool help =
       argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
@@ -309,6 +380,17 @@ int RunAslamCommand(int argc, char** argv) {
   // The subcommand leaves argv; gflags sees `aslam --flags...`.
   std::vector<char*> args(argv, argv + argc);
   args.erase(args.begin() + 1);
+  std::vector<std::string> sets;
+  try {
+    sets = TakeSetArguments(&args);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "aslam %s: %s\nusage: %s\n", command.c_str(), e.what(), kUsage);
+    return 2;
+  }
+  if (command == "log-stats" && !sets.empty()) {
+    std::fprintf(stderr, "aslam log-stats: takes no --set\n");
+    return 2;
+  }
   int n = static_cast<int>(args.size());
   char** v = args.data();
   ParseFlags(&n, &v, kUsage);
@@ -322,9 +404,9 @@ int RunAslamCommand(int argc, char** argv) {
       std::fprintf(stderr, "aslam bench: --out is required\nusage: %s\n", kUsage);
       return 2;
     }
-    return Bench();
+    return Bench(sets);
   }
-  return Explore();
+  return Explore(sets);
 }
 
 }  // namespace aslam

@@ -13,6 +13,10 @@
 // coverage.md, comparison.md, curves.csv, fig3.png, fig4.png,
 // fig5_<world>.png (+ fig5_<world>_*.{png,csv} inputs of that figure),
 // bench.log (the plotting tool's output).
+// With --set (eval/bench_settings.h): runs/<label>/<world>/<method>/seed_<NN>/;
+// settings/<label>/ holds the setting's config.yaml, figures and bench.log;
+// each markdown report has one section per setting ("## <label>"), runs.csv and
+// curves.csv a first column `setting`, and sweep.md sums the sweep up in one table.
 
 #include <string>
 #include <vector>

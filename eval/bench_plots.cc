@@ -71,7 +71,8 @@ void WriteFig5Inputs(const RunRecord& record, const std::string& out_prefix) {
                      Format("%.4f", record.Number("coverage")) + "," + record.run.dir + "\n");
 }
 
-std::vector<std::string> DrawBenchPlots(const std::string& out_dir,
+std::vector<std::string> DrawBenchPlots(const std::string& out_dir, const std::string& curves_csv,
+                                        const std::string& setting,
                                         const std::vector<std::string>& methods,
                                         const std::vector<std::string>& worlds,
                                         const std::vector<std::string>& fig5_worlds) {
@@ -81,6 +82,10 @@ std::vector<std::string> DrawBenchPlots(const std::string& out_dir,
                std::string(ASLAM_SOURCE_DIR) + "/eval/bench_plots.py",
                "--out",
                out_dir,
+               "--curves",
+               curves_csv,
+               "--setting",
+               setting,
                "--methods",
                Joined(methods),
                "--worlds",

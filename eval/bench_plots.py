@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """The figures of `aslam bench` (eval/bench.h), from the files it wrote in OUT.
 
+With --set, once per setting: curves.csv's rows of --setting, into OUT/settings/<label>/.
+
 fig3.png: mean edge D-optimality over time per method (the paper's Fig. 3),
           one panel per world, mean over the runs with a ±1 std band.
 fig4.png: coverage over time per method (Fig. 4), mean ± std band, one panel
@@ -30,11 +32,13 @@ def number(text):
     return float(text) if text not in ("", None) else math.nan
 
 
-def read_curves(path):
-    """{world: {method: columns}} from curves.csv."""
+def read_curves(path, setting):
+    """{world: {method: columns}} from curves.csv's rows of `setting` (a sweep's column)."""
     curves = defaultdict(lambda: defaultdict(lambda: defaultdict(list)))
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
+            if row.get("setting", "") != setting:
+                continue
             columns = curves[row["world"]][row["method"]]
             for key in ("t_s", "coverage_mean", "coverage_std", "d_opt_mean", "d_opt_std"):
                 columns[key].append(number(row[key]))
@@ -42,7 +46,7 @@ def read_curves(path):
     return curves
 
 
-def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, scale=1.0):
+def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, scale=1.0, setting=""):
     worlds = [w for w in worlds if w in curves] + [w for w in curves if w not in worlds]
     fig, axes = plt.subplots(1, max(1, len(worlds)), figsize=(6.5 * max(1, len(worlds)), 4.2), squeeze=False)
     for ax, world in zip(axes[0], worlds):
@@ -58,7 +62,7 @@ def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, s
             ax.plot(t, mean, color=colour, label=f"{LABELS.get(method, method)} ({runs} runs)")
             ax.fill_between(t, [m - s for m, s in zip(mean, std)], [m + s for m, s in zip(mean, std)],
                             color=colour, alpha=0.2, linewidth=0)
-        ax.set_title(f"{title}: {world}")
+        ax.set_title(f"{title}: {world}" + (f"\n{setting}" if setting else ""))
         ax.set_xlabel("time (s)")
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
@@ -68,7 +72,7 @@ def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, s
     plt.close(fig)
 
 
-def fig5(out, world):
+def fig5(out, world, setting):
     prefix = os.path.join(out, f"fig5_{world}")
     with open(prefix + "_extent.csv", newline="") as f:
         extent_row = next(csv.DictReader(f))
@@ -99,7 +103,8 @@ def fig5(out, world):
         ax.plot(xs, ys, color="tab:red" if loop == "1" else "tab:blue", linewidth=0.6 if loop == "1" else 0.9,
                 alpha=0.7, label="loop closures" if loop == "1" else "odometry edges")
     ax.set_title(f"{world}: {LABELS.get(extent_row['method'], extent_row['method'])}, seed {extent_row['seed']}, "
-                 f"coverage {100 * float(extent_row['coverage']):.1f} %\n(truth: walls light blue, unmapped free space grey)")
+                 f"coverage {100 * float(extent_row['coverage']):.1f} %" + (f", {setting}" if setting else "")
+                 + "\n(truth: walls light blue, unmapped free space grey)")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_aspect("equal")
@@ -111,20 +116,22 @@ def fig5(out, world):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", required=True, help="the bench folder (holds curves.csv)")
+    parser.add_argument("--out", required=True, help="the figures' folder (holds Fig. 5's inputs)")
+    parser.add_argument("--curves", help="curves.csv (default: OUT/curves.csv)")
+    parser.add_argument("--setting", default="", help="a sweep's setting: its rows of curves.csv")
     parser.add_argument("--methods", default="fd,ags,ours")
     parser.add_argument("--worlds", default="", help="panel order")
     parser.add_argument("--fig5-worlds", default="")
     args = parser.parse_args()
     methods = [m for m in args.methods.split(",") if m]
-    curves = read_curves(os.path.join(args.out, "curves.csv"))
+    curves = read_curves(args.curves or os.path.join(args.out, "curves.csv"), args.setting)
     worlds = [w for w in args.worlds.split(",") if w]
     band_plot(curves, worlds, methods, "d_opt_mean", "d_opt_std", "mean edge D-optimality", "Uncertainty evolution",
-              os.path.join(args.out, "fig3.png"))
+              os.path.join(args.out, "fig3.png"), setting=args.setting)
     band_plot(curves, worlds, methods, "coverage_mean", "coverage_std", "coverage (%)", "Map discovered",
-              os.path.join(args.out, "fig4.png"), scale=100.0)
+              os.path.join(args.out, "fig4.png"), scale=100.0, setting=args.setting)
     for world in [w for w in args.fig5_worlds.split(",") if w]:
-        fig5(args.out, world)
+        fig5(args.out, world, args.setting)
     print("wrote fig3.png, fig4.png" + "".join(f", fig5_{w}.png" for w in args.fig5_worlds.split(",") if w))
 
 

@@ -44,6 +44,14 @@ std::string MeanStdCell(const MeanStd& m, const char* format) {
   return Format(format, m.mean) + " ± " + Format(format, m.std);
 }
 
+// A CSV field, quoted when it holds a comma, a quote or a newline (a sweep's label may).
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 }  // namespace
 
 std::string ReferenceMethod(const std::vector<std::string>& methods) {
@@ -81,23 +89,20 @@ std::string RunsCsv(const std::vector<RunRecord>& records) {
       if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
     }
   }
-  std::string out = "world_label,run_dir";
+  const bool sweep = std::any_of(records.begin(), records.end(),
+                                 [](const RunRecord& r) { return !r.run.setting.empty(); });
+  std::string out = sweep ? "setting,world_label,run_dir" : "world_label,run_dir";
   for (const std::string& k : keys) out += "," + k;
   out += "\n";
-  auto quoted = [](const std::string& text) {
-    if (text.find_first_of(",\"\n") == std::string::npos) return text;
-    std::string q = "\"";
-    for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  };
   for (const RunRecord& r : records) {
-    out += quoted(r.run.world_label) + "," + quoted(r.run.dir);
+    if (sweep) out += CsvField(r.run.setting) + ",";
+    out += CsvField(r.run.world_label) + "," + CsvField(r.run.dir);
     for (const std::string& k : keys) {
       std::string value;
       for (const auto& [fk, fv] : r.fields) {
         if (fk == k) value = fv == "null" ? "" : fv;
       }
-      out += "," + quoted(value);
+      out += "," + CsvField(value);
     }
     out += "\n";
   }
@@ -193,16 +198,33 @@ std::string Table2Markdown(const std::vector<RunRecord>& records, const BenchCur
   return out;
 }
 
-std::string CurvesCsv(const BenchCurves& curves) {
-  std::string out = "world,method,t_s,runs,coverage_mean,coverage_std,d_opt_mean,d_opt_std\n";
+namespace {
+
+constexpr char kCurvesHeader[] =
+    "world,method,t_s,runs,coverage_mean,coverage_std,d_opt_mean,d_opt_std\n";
+
+// curves.csv's rows, each after `prefix` (a sweep's setting column).
+std::string CurvesRows(const BenchCurves& curves, const std::string& prefix) {
+  std::string out;
   auto number = [](double v) { return std::isfinite(v) ? Format("%.6g", v) : std::string(); };
   for (const auto& [key, curve] : curves) {
     for (const CurvePoint& p : curve) {
-      out += key.first + "," + key.second + "," + Format("%.0f", p.t_s) + "," +
+      out += prefix + key.first + "," + key.second + "," + Format("%.0f", p.t_s) + "," +
              std::to_string(p.coverage.n) + "," + number(p.coverage.mean) + "," +
              number(p.coverage.std) + "," + number(p.d_opt.mean) + "," + number(p.d_opt.std) + "\n";
     }
   }
+  return out;
+}
+
+}  // namespace
+
+std::string CurvesCsv(const BenchCurves& curves) { return kCurvesHeader + CurvesRows(curves, ""); }
+
+std::string CurvesCsv(const std::vector<std::pair<std::string, BenchCurves>>& curves_by_setting) {
+  std::string out = std::string("setting,") + kCurvesHeader;
+  for (const auto& [setting, curves] : curves_by_setting)
+    out += CurvesRows(curves, CsvField(setting) + ",");
   return out;
 }
 
@@ -302,6 +324,38 @@ std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
                (std::isnan(p) ? "" : " (p = " + Format("%.2g", p) + ")") + " |";
       }
       out += "\n";
+    }
+  }
+  return out;
+}
+
+std::string SweepMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& settings,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods, double duration_s) {
+  std::string out =
+      "| world | method | setting | runs | coverage | time to 90 % | ATE RMSE (m) | A.C |\n"
+      "|---|---|---|---|---|---|---|---|\n";
+  auto median_cell = [](const std::vector<double>& values, const char* format) {
+    const double median = Median(values);
+    return std::isnan(median) ? std::string("–") : Format(format, median);
+  };
+  for (const std::string& world : worlds) {
+    for (const std::string& method : methods) {
+      for (const std::string& setting : settings) {
+        std::vector<RunRecord> group;
+        for (const RunRecord& r : records) {
+          if (r.run.setting == setting) group.push_back(r);
+        }
+        const std::vector<double> times_s = TimesTo90(group, world, method);
+        out += "| " + world + " | " + method + " | " + setting + " | " +
+               std::to_string(times_s.size()) + " | " +
+               median_cell(ValuesOf(group, world, method, "coverage"), "%.3f") + " | " +
+               TimeCell(Median(times_s), duration_s) + " | " +
+               median_cell(ValuesOf(group, world, method, "ate_rmse_m"), "%.3f") + " | " +
+               median_cell(ValuesOf(group, world, method, "algebraic_connectivity"), "%.3f") +
+               " |\n";
+      }
     }
   }
   return out;

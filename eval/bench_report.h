@@ -2,8 +2,9 @@
 
 // `aslam bench`'s report tables from the finished runs (docs/architecture.md §6):
 // runs.csv, Table I (table1.md), Table II (table2.md), coverage.md,
-// comparison.md and the mean curves (curves.csv). Text only; the statistics
-// come from eval/stats.h.
+// comparison.md, the mean curves (curves.csv) and a --set sweep's summary
+// (sweep.md). Text only; the statistics come from eval/stats.h. The tables take
+// one setting's runs; eval/bench.cc puts one section per setting in each file.
 
 #include <map>
 #include <string>
@@ -29,7 +30,8 @@ struct CurvePoint {
 using BenchCurves = std::map<std::pair<std::string, std::string>, std::vector<CurvePoint>>;
 BenchCurves ComputeCurves(const std::vector<RunRecord>& records, double duration_s);
 
-// The reports' text.
+// The reports' text. With a sweep (any run with a setting), runs.csv starts with a
+// `setting` column.
 std::string RunsCsv(const std::vector<RunRecord>& records);
 std::string Table1Markdown(const std::vector<RunRecord>& records,
                            const std::vector<std::string>& worlds,
@@ -38,6 +40,8 @@ std::string Table2Markdown(const std::vector<RunRecord>& records, const BenchCur
                            const std::vector<std::string>& worlds,
                            const std::vector<std::string>& methods);
 std::string CurvesCsv(const BenchCurves& curves);
+// curves.csv of a sweep: a first column `setting`, each setting's curves in the order given.
+std::string CurvesCsv(const std::vector<std::pair<std::string, BenchCurves>>& curves_by_setting);
 // Coverage % (mean ± std) at 1/6, 1/3, 2/3 and all of the duration (5, 10, 20
 // and 30 min of the paper's 30), and the median time to 90 % coverage over all
 // runs, a run that never reached 90 % counting as later than every run that did.
@@ -50,5 +54,12 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records, const BenchC
 std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
                                const std::vector<std::string>& worlds,
                                const std::vector<std::string>& methods, double duration_s);
+// A sweep in one table: per world, method and setting (settings adjacent, so a parameter's
+// effect reads down the column), the runs and the medians of coverage, time to 90 % (never
+// reached counting as the latest), ATE RMSE and algebraic connectivity.
+std::string SweepMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& settings,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods, double duration_s);
 
 }  // namespace aslam

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "eval/bench.h"
 #include "eval/bench_testing.h"
 
 namespace aslam {
@@ -22,7 +23,7 @@ TEST(BenchReportTest, TablesAndCurvesFromKnownRuns) {
   const double reductions[] = {20.0, 30.0};
   for (int i = 0; i < 2; ++i) {
     RunRecord r;
-    r.run = {"w", "w", "ours", i + 1, dir + "/ours_" + std::to_string(i)};
+    r.run = {"w", "w", "ours", i + 1, dir + "/ours_" + std::to_string(i), "", ""};
     r.fields = {{"coverage", std::to_string(coverages[i])},
                 {"algebraic_connectivity", i == 0 ? "1.0" : "3.0"},
                 {"d_opt_reduction_percent", std::to_string(reductions[i])},
@@ -84,7 +85,7 @@ TEST(BenchReportTest, CoverageTableFromKnownRuns) {
   int seed = 0;
   for (const auto& spec : runs) {
     RunRecord r;
-    r.run = {"w", "w", spec.method, ++seed, dir + "/run_" + std::to_string(seed)};
+    r.run = {"w", "w", spec.method, ++seed, dir + "/run_" + std::to_string(seed), "", ""};
     r.fields = {{"time_to_90_coverage_s", spec.time_to_90}};
     WriteFile(r.run.dir + "/coverage.csv", spec.coverage_csv);
     WriteFile(r.run.dir + "/uncertainty.csv", "t_s,mean_edge_d_opt\n");
@@ -120,7 +121,7 @@ TEST(BenchReportTest, ComparisonAgainstTheReferenceMethod) {
   int seed = 0;
   for (const auto& spec : runs) {
     RunRecord r;
-    r.run = {"w", "w", spec.method, ++seed, "unused"};
+    r.run = {"w", "w", spec.method, ++seed, "unused", "", ""};
     r.fields = {{"coverage", spec.coverage}, {"time_to_90_coverage_s", spec.time_to_90}};
     records.push_back(r);
   }
@@ -136,6 +137,85 @@ TEST(BenchReportTest, ComparisonAgainstTheReferenceMethod) {
             std::string::npos)
       << table;
   EXPECT_NE(table.find("| w | A.C | – | – | – |"), std::string::npos) << table;  // no values at all
+}
+
+// A sweep's reports: each markdown file one section per setting holding only that setting's
+// runs, a setting column in runs.csv and curves.csv, sweep.md's medians per setting.
+TEST(BenchReportTest, SweepReportsAreGroupedBySetting) {
+  BenchOptions options;
+  options.worlds = {"test"};
+  options.methods = {"fd"};
+  options.seeds = 3;
+  options.duration_s = 4.0;
+  options.out_dir = TempDir("sweep_reports");
+  options.plots = false;
+  options.sweep = {"utility.lambda=0.3,1.2"};
+  const std::vector<BenchRun> runs = PlanBench(options);  // seed 1: 0.3, 1.2; seed 2: ...
+  ASSERT_EQ(runs.size(), 6u);
+  // lambda 0.3: three runs, coverage 0.2, 0.4, 0.9; lambda 1.2: one run, coverage 0.7.
+  FakeFinishedRun(runs[0], {{"coverage", "0.2"}, {"ate_rmse_m", "0.1"}}, 0.2);
+  FakeFinishedRun(runs[2], {{"coverage", "0.4"}, {"ate_rmse_m", "0.3"}}, 0.4);
+  FakeFinishedRun(
+      runs[4], {{"coverage", "0.9"}, {"ate_rmse_m", "0.2"}, {"time_to_90_coverage_s", "3"}}, 0.9);
+  FakeFinishedRun(runs[1], {{"coverage", "0.7"}, {"time_to_90_coverage_s", "2"}}, 0.7);
+  const std::vector<std::string> written = WriteBenchReports(options);
+  EXPECT_NE(std::find(written.begin(), written.end(), "sweep.md"), written.end());
+
+  const std::string table1 = ReadFile(options.out_dir + "/table1.md");
+  const std::size_t low = table1.find("## utility.lambda=0.3\n");
+  const std::size_t high = table1.find("## utility.lambda=1.2\n");
+  ASSERT_NE(low, std::string::npos) << table1;
+  ASSERT_NE(high, std::string::npos) << table1;
+  EXPECT_LT(low, high);  // in the order given
+  EXPECT_NE(table1.find("| test | fd | 3 |", low), std::string::npos) << table1;
+  EXPECT_LT(table1.find("| test | fd | 3 |", low), high) << table1;
+  EXPECT_NE(table1.find("| test | fd | 1 |", high), std::string::npos) << table1;
+  for (const std::string name : {"table2.md", "coverage.md", "comparison.md"}) {
+    const std::string text = ReadFile(options.out_dir + "/" + name);
+    EXPECT_LT(text.find("## utility.lambda=0.3\n"), text.find("## utility.lambda=1.2\n")) << name;
+  }
+  // coverage.md: at 4 s, lambda 0.3's three runs average 50 %, lambda 1.2's one is 70 %.
+  const std::string coverage = ReadFile(options.out_dir + "/coverage.md");
+  EXPECT_NE(coverage.find("| 50.0 ± 36.1 |"), std::string::npos) << coverage;
+  EXPECT_GT(coverage.find("| 70.0 ± 0.0 |"), coverage.find("## utility.lambda=1.2")) << coverage;
+
+  const std::string csv = ReadFile(options.out_dir + "/runs.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')).rfind("setting,world_label,run_dir,", 0), 0u) << csv;
+  EXPECT_EQ(CountLines(csv), 5);
+  EXPECT_NE(csv.find("\nutility.lambda=1.2,test," + runs[1].dir + ","), std::string::npos) << csv;
+  const std::string curves = ReadFile(options.out_dir + "/curves.csv");
+  EXPECT_EQ(curves.rfind("setting,world,method,t_s,", 0), 0u);
+  EXPECT_NE(curves.find("\nutility.lambda=1.2,test,fd,4,1,0.7,"), std::string::npos) << curves;
+
+  // Medians: coverage 0.4 and 0.7, time to 90 % never-never-3 s -> > 4 s, and 2 s.
+  const std::string sweep = ReadFile(options.out_dir + "/sweep.md");
+  EXPECT_NE(sweep.find("| test | fd | utility.lambda=0.3 | 3 | 0.400 | > 4 s | 0.200 | – |"),
+            std::string::npos)
+      << sweep;
+  EXPECT_NE(sweep.find("| test | fd | utility.lambda=1.2 | 1 | 0.700 | 2 s | – | – |"),
+            std::string::npos)
+      << sweep;
+  // Fig. 5's inputs per setting, in the setting's folder.
+  EXPECT_TRUE(fs::exists(options.out_dir + "/settings/utility.lambda=1.2/fig5_test_extent.csv"));
+  EXPECT_FALSE(fs::exists(options.out_dir + "/fig5_test_extent.csv"));
+}
+
+// Without --set the reports are the plain bench's: no sections, no setting column, no sweep.md.
+TEST(BenchReportTest, NoSweepKeepsThePlainReports) {
+  BenchOptions options;
+  options.worlds = {"test"};
+  options.methods = {"fd"};
+  options.seeds = 1;
+  options.duration_s = 4.0;
+  options.out_dir = TempDir("plain_reports");
+  options.plots = false;
+  FakeFinishedRun(PlanBench(options)[0], {{"coverage", "0.5"}});
+  WriteBenchReports(options);
+  EXPECT_EQ(ReadFile(options.out_dir + "/table1.md").rfind("| world | method | runs |", 0), 0u);
+  EXPECT_EQ(ReadFile(options.out_dir + "/runs.csv").rfind("world_label,run_dir,", 0), 0u);
+  EXPECT_EQ(ReadFile(options.out_dir + "/curves.csv").rfind("world,method,", 0), 0u);
+  EXPECT_FALSE(fs::exists(options.out_dir + "/sweep.md"));
+  EXPECT_TRUE(fs::exists(options.out_dir + "/fig5_test_extent.csv"));
 }
 
 }  // namespace

@@ -54,13 +54,32 @@ std::vector<std::string> ExploreArgv(const BenchOptions& options, const BenchRun
                                    run.dir,
                                    "--progress",
                                    "60"};
-  if (!options.config_file.empty()) args.insert(args.end(), {"--config", options.config_file});
+  if (!run.config_file.empty()) args.insert(args.end(), {"--config", run.config_file});
   if (options.start) {
     args.insert(args.end(), {"--start", Format("%.17g", options.start->x_m) + "," +
                                             Format("%.17g", options.start->y_m) + "," +
                                             Format("%.17g", options.start->yaw_rad)});
   }
   return args;
+}
+
+// A JSON object's scalars in file order; a nested object's as "outer.inner" (node_cpu_s.slam),
+// an array as its flow text.
+void AddFields(const YAML::Node& object, const std::string& prefix,
+               std::vector<std::pair<std::string, std::string>>* fields) {
+  for (const auto& entry : object) {
+    const std::string key = prefix + entry.first.as<std::string>();
+    const YAML::Node& value = entry.second;
+    if (value.IsMap()) {
+      AddFields(value, key + ".", fields);
+    } else if (value.IsSequence()) {
+      YAML::Emitter flow;
+      flow << YAML::Flow << value;
+      fields->emplace_back(key, flow.c_str());
+    } else {
+      fields->emplace_back(key, value.IsNull() ? "null" : value.as<std::string>());
+    }
+  }
 }
 
 }  // namespace
@@ -119,14 +138,22 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options) {
       throw std::invalid_argument("--worlds: two worlds are named '" + label + "'");
     worlds.emplace_back(world, label);
   }
+  const std::vector<BenchSetting> settings = PlanSettings(options.sweep);
   std::vector<BenchRun> runs;
   for (int seed = 1; seed <= options.seeds; ++seed) {
-    for (const auto& [world, label] : worlds) {
-      for (const std::string& method : options.methods) {
-        char seed_dir[32];
-        std::snprintf(seed_dir, sizeof seed_dir, "seed_%02d", seed);
-        runs.push_back({world, label, method, seed,
-                        options.out_dir + "/runs/" + label + "/" + method + "/" + seed_dir});
+    for (const BenchSetting& setting : settings) {
+      const std::string runs_dir =
+          options.out_dir + "/runs/" + (setting.label.empty() ? "" : setting.label + "/");
+      const std::string config = setting.label.empty()
+                                     ? options.config_file
+                                     : SettingConfigPath(options.out_dir, setting.label);
+      for (const auto& [world, label] : worlds) {
+        for (const std::string& method : options.methods) {
+          char seed_dir[32];
+          std::snprintf(seed_dir, sizeof seed_dir, "seed_%02d", seed);
+          runs.push_back({world, label, method, seed,
+                          runs_dir + label + "/" + method + "/" + seed_dir, setting.label, config});
+        }
       }
     }
   }
@@ -145,10 +172,7 @@ std::optional<RunRecord> ReadFinishedRun(const BenchRun& run) {
   }
   if (!root.IsMap()) return std::nullopt;
   RunRecord record{run, {}};
-  for (const auto& entry : root) {
-    record.fields.emplace_back(entry.first.as<std::string>(),
-                               entry.second.IsNull() ? "null" : entry.second.as<std::string>());
-  }
+  AddFields(root, "", &record.fields);
   for (const auto& [key, value] : record.fields) {
     if (key == "end_reason" && value == "interrupted") return std::nullopt;
   }
@@ -159,6 +183,7 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
                       const std::function<void(const BenchProgress&)>& on_progress) {
   const std::vector<BenchRun> runs = PlanBench(options);
   if (options.aslam_binary.empty()) throw std::invalid_argument("RunBench: no aslam binary");
+  WriteSettingConfigs(options.config_file, PlanSettings(options.sweep), options.out_dir);
   const Clock::time_point start = Clock::now();
   BenchSummary summary;
   summary.total = static_cast<int>(runs.size());

@@ -1,10 +1,11 @@
 #pragma once
 
-// `aslam bench`'s run scheduling: the world × method × seed matrix, which of its
-// runs have finished (so an interrupted bench resumes where it stopped), and
-// running the others as `aslam explore --inproc` children, J at a time, each
-// writing its own run folder OUT/runs/<world>/<method>/seed_<NN>/ with the
-// child's output in explore.log.
+// `aslam bench`'s run scheduling: the world × method × seed matrix (per setting of a
+// --set sweep, eval/bench_settings.h), which of its runs have finished (so an
+// interrupted bench resumes where it stopped), and running the others as
+// `aslam explore --inproc` children, J at a time, each writing its own run folder
+// OUT/runs/<world>/<method>/seed_<NN>/ (with --set: OUT/runs/<setting>/<world>/...)
+// with the child's output in explore.log.
 
 #include <atomic>
 #include <functional>
@@ -14,17 +15,19 @@
 #include <vector>
 
 #include "common/pose2d.h"
+#include "eval/bench_settings.h"
 
 namespace aslam {
 
 struct BenchOptions {
   std::vector<std::string> worlds;  // names under worlds/, world folders or MAP.yaml files
   std::vector<std::string> methods = {"fd", "ags", "ours"};
-  int seeds = 15;               // seeds 1..seeds
-  double duration_s = 1800.0;   // simulated seconds per run
-  int jobs = 2;                 // runs in parallel
-  std::optional<Pose2d> start;  // for every world (needed by a bare MAP.yaml)
-  std::string config_file;      // passed to every run
+  int seeds = 15;                  // seeds 1..seeds
+  double duration_s = 1800.0;      // simulated seconds per run
+  int jobs = 2;                    // runs in parallel
+  std::optional<Pose2d> start;     // for every world (needed by a bare MAP.yaml)
+  std::string config_file;         // passed to every run (with --set: the base of each setting's)
+  std::vector<std::string> sweep;  // --set KEY=V1,V2,... in the order given; empty: no sweep
   std::string out_dir;
   std::string aslam_binary;  // the `aslam` executable that runs `explore --inproc`
   bool plots = true;         // call eval/bench_plots.py at the end
@@ -35,10 +38,13 @@ struct BenchRun {
   std::string world_label;  // folder name or map file stem: runs/<label>/...
   std::string method;
   int seed = 0;
-  std::string dir;  // run folder
+  std::string dir;          // run folder
+  std::string setting;      // the setting's label; "" without --set
+  std::string config_file;  // what the run reads: --config, or its setting's config.yaml
 };
 
-// One finished run's metrics.json, keys in file order.
+// One finished run's metrics.json, keys in file order; a nested object's keys as
+// "outer.inner".
 struct RunRecord {
   BenchRun run;
   std::vector<std::pair<std::string, std::string>> fields;  // raw JSON scalars ("null" kept)
@@ -69,8 +75,8 @@ std::string ResolveWorld(const std::string& world);
 // runs/<label> name of a world: its folder name or its MAP.yaml's stem.
 std::string WorldLabel(const std::string& world);
 
-// The matrix in run order: seed by seed, each seed on every world with every
-// method, so a partial matrix stays balanced across worlds and methods. Throws
+// The matrix in run order: seed by seed, each seed on every setting, world and
+// method, so a partial matrix stays balanced across them. Throws
 // std::invalid_argument for a bad option.
 std::vector<BenchRun> PlanBench(const BenchOptions& options);
 
@@ -78,7 +84,8 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options);
 // but "interrupted").
 std::optional<RunRecord> ReadFinishedRun(const BenchRun& run);
 
-// Runs every unfinished run; `stop` (Ctrl-C) stops the children and returns.
+// Writes each setting's config (WriteSettingConfigs), then runs every unfinished
+// run; `stop` (Ctrl-C) stops the children and returns.
 BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop,
                       const std::function<void(const BenchProgress&)>& on_progress);
 

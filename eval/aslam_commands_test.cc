@@ -1,0 +1,108 @@
+#include "eval/aslam_commands.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "common/subprocess.h"
+#include "eval/bench_testing.h"
+
+namespace aslam {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+// TakeSetArguments on `argv`: the --set values and the arguments left for gflags.
+std::pair<std::vector<std::string>, std::vector<std::string>> Take(std::vector<std::string> argv) {
+  std::vector<char*> args;
+  for (std::string& arg : argv) args.push_back(arg.data());
+  const std::vector<std::string> sets = TakeSetArguments(&args);
+  return {sets, std::vector<std::string>(args.begin(), args.end())};
+}
+
+TEST(TakeSetArgumentsTest, EveryFormInOrderOthersLeftForGflags) {
+  const auto [sets, rest] = Take({"aslam", "--world", "w", "--set", "a.b=1", "--set=c=[1, 2]",
+                                  "-set", "d=x", "-set=e=2", "--settings", "--out", "o"});
+  EXPECT_EQ(sets, (std::vector<std::string>{"a.b=1", "c=[1, 2]", "d=x", "e=2"}));
+  EXPECT_EQ(rest, (std::vector<std::string>{"aslam", "--world", "w", "--settings", "--out", "o"}));
+}
+
+TEST(TakeSetArgumentsTest, NoSetChangesNothing) {
+  const auto [sets, rest] = Take({"aslam", "--world", "w", "set", "--out=o"});
+  EXPECT_TRUE(sets.empty());
+  EXPECT_EQ(rest, (std::vector<std::string>{"aslam", "--world", "w", "set", "--out=o"}));
+}
+
+TEST(TakeSetArgumentsTest, StopsAtDoubleDashAndNeedsAValue) {
+  const auto [sets, rest] = Take({"aslam", "--set", "a=1", "--", "--set", "b=2"});
+  EXPECT_EQ(sets, (std::vector<std::string>{"a=1"}));
+  EXPECT_EQ(rest, (std::vector<std::string>{"aslam", "--", "--set", "b=2"}));
+  EXPECT_THROW(Take({"aslam", "--out", "o", "--set"}), std::invalid_argument);
+}
+
+// `aslam explore ARGS` as a child: its exit code and output.
+std::pair<int, std::string> Explore(const std::string& name, std::vector<std::string> args) {
+  const std::string out = TempDir(name);
+  SubprocessOptions spawn;
+  spawn.argv = {
+      ASLAM_BINARY, "explore",    "--world",    std::string(ASLAM_SOURCE_DIR) + "/worlds/test",
+      "--method",   "fd",         "--seed",     "3",
+      "--out",      out + "/run", "--progress", "0"};
+  spawn.argv.insert(spawn.argv.end(), args.begin(), args.end());
+  spawn.output_path = out + "/explore.log";
+  const int code = Subprocess::Spawn(spawn).Wait().CodeOrMinusSignal();
+  return {code, ReadFile(spawn.output_path)};
+}
+
+// The loaders reject the misspelt key of a --set, naming it, before anything runs; in both
+// modes (process mode fails before starting procman).
+TEST(ExploreSetTest, MisspeltKeyFailsNamingIt) {
+  for (const std::string mode : {"--inproc", "--rate=0"}) {
+    const auto [code, output] = Explore("set_typo", {mode, "--set", "utility.lamda=1"});
+    EXPECT_EQ(code, 1) << output;
+    EXPECT_THAT(output, AllOf(HasSubstr("run/config.yaml"), HasSubstr("utility.lamda"),
+                              HasSubstr("unknown key")));
+  }
+  const auto [code, output] = Explore("set_bad", {"--inproc", "--set", "utility.lambda"});
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_THAT(output, HasSubstr("--set 'utility.lambda': expected KEY=VALUE"));
+  const auto [method_code, method_output] =
+      Explore("set_method", {"--inproc", "--set", "utility.method=ours"});
+  EXPECT_EQ(method_code, 2) << method_output;
+  EXPECT_THAT(method_output, HasSubstr("--method"));
+}
+
+// The run reads the overridden config (a bad value is caught as the config's), and the
+// effective one is recorded as OUT/config.yaml; without --set there is none.
+TEST(ExploreSetTest, RunReadsAndRecordsTheEffectiveConfig) {
+  const auto [bad_code, bad_output] = Explore(
+      "set_range", {"--inproc", "--config", std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml",
+                    "--set", "utility.lambda=-1"});
+  EXPECT_EQ(bad_code, 1) << bad_output;
+  EXPECT_THAT(bad_output, AllOf(HasSubstr("utility.lambda = '-1'"), HasSubstr("[0, 1000]")));
+
+  const auto [code, output] =
+      Explore("set_run", {"--inproc", "--duration", "3", "--set", "utility.lambda=1.2", "--set",
+                          "utility.hallucination.loop_closure_scale=2"});
+  ASSERT_EQ(code, 0) << output;
+  const std::string run = ::testing::TempDir() + "/bench_test_set_run/run";
+  const YAML::Node config = YAML::LoadFile(run + "/config.yaml");
+  EXPECT_EQ(config["utility"]["lambda"].as<double>(), 1.2);
+  EXPECT_EQ(config["utility"]["hallucination"]["loop_closure_scale"].as<double>(), 2.0);
+  EXPECT_EQ(config["utility"]["method"].as<std::string>(), "fd");  // as run: --method
+  EXPECT_EQ(config["sim"]["seed"].as<int>(), 3);
+  EXPECT_TRUE(fs::exists(run + "/metrics.json"));
+
+  const auto [plain_code, plain_output] = Explore("set_none", {"--inproc", "--duration", "1"});
+  ASSERT_EQ(plain_code, 0) << plain_output;
+  EXPECT_FALSE(fs::exists(::testing::TempDir() + "/bench_test_set_none/run/config.yaml"));
+}
+
+}  // namespace
+}  // namespace aslam
