@@ -114,7 +114,8 @@ MapAgreement RunListener::Agreement(const OccupancyGrid& map) {
 
 double RunListener::coverage() {
   if (coverage_stale_ && map_ && MapInWorld()) {
-    coverage_ = ComputeCoverage(*map_, *MapInWorld(), truth_map_).fraction;
+    if (!coverage_evaluator_) coverage_evaluator_.emplace(truth_map_, *MapInWorld());
+    coverage_ = coverage_evaluator_->Evaluate(*map_).fraction;
     coverage_stale_ = false;
   }
   return coverage_;

@@ -66,6 +66,7 @@ class RunListener {
   int64_t sim_utime_ = 0;
   std::vector<TimedPose> truth_;
   std::optional<Pose2d> map_in_world_;
+  std::optional<CoverageEvaluator> coverage_evaluator_;  // once map_in_world_ is known
   PoseGraph graph_;
   std::vector<PathPoint> path_;
   std::optional<OccupancyGrid> map_;

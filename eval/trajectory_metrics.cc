@@ -108,27 +108,37 @@ AteResult ComputeAte(const std::vector<TimedPose>& estimate, const std::vector<T
 
 Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world,
                          const OccupancyGrid& truth) {
-  Coverage result;
-  // Pose2d::Transform, CellCenter and WorldToCell written out with the
-  // rotation computed once: the same arithmetic, so the same cells, without
-  // a sin/cos per cell (this runs every simulated second of an exploration).
+  return CoverageEvaluator(truth, map_in_world).Evaluate(slam_map);
+}
+
+CoverageEvaluator::CoverageEvaluator(const OccupancyGrid& truth, const Pose2d& map_in_world) {
+  // Pose2d::Transform and CellCenter written out with the rotation computed once.
   const Pose2d world_in_map = map_in_world.Inverse();
   const double c = std::cos(world_in_map.yaw_rad), s = std::sin(world_in_map.yaw_rad);
-  const double truth_res = truth.resolution_m(), slam_res = slam_map.resolution_m();
-  const Point2d truth_origin = truth.origin_m(), slam_origin = slam_map.origin_m();
+  const double truth_res = truth.resolution_m();
+  const Point2d truth_origin = truth.origin_m();
   for (int row = 0; row < truth.height_cells(); ++row) {
     const double y_m = truth_origin.y_m + (row + 0.5) * truth_res;
     for (int col = 0; col < truth.width_cells(); ++col) {
       if (truth.at({col, row}) != OccupancyGrid::kFree) continue;
-      ++result.truth_free_cells;
       const double x_m = truth_origin.x_m + (col + 0.5) * truth_res;
-      const double map_x_m = world_in_map.x_m + c * x_m - s * y_m;
-      const double map_y_m = world_in_map.y_m + s * x_m + c * y_m;
-      const CellIndex cell{static_cast<int>(std::floor((map_x_m - slam_origin.x_m) / slam_res)),
-                           static_cast<int>(std::floor((map_y_m - slam_origin.y_m) / slam_res))};
-      if (slam_map.ValueOr(cell, OccupancyGrid::kUnknown) != OccupancyGrid::kUnknown) {
-        ++result.truth_free_known;
-      }
+      truth_free_in_map_m_.push_back(
+          {world_in_map.x_m + c * x_m - s * y_m, world_in_map.y_m + s * x_m + c * y_m});
+    }
+  }
+}
+
+Coverage CoverageEvaluator::Evaluate(const OccupancyGrid& slam_map) const {
+  Coverage result;
+  result.truth_free_cells = static_cast<int64_t>(truth_free_in_map_m_.size());
+  const double slam_res = slam_map.resolution_m();
+  const Point2d slam_origin = slam_map.origin_m();
+  for (const Point2d& p : truth_free_in_map_m_) {
+    // WorldToCell written out.
+    const CellIndex cell{static_cast<int>(std::floor((p.x_m - slam_origin.x_m) / slam_res)),
+                         static_cast<int>(std::floor((p.y_m - slam_origin.y_m) / slam_res))};
+    if (slam_map.ValueOr(cell, OccupancyGrid::kUnknown) != OccupancyGrid::kUnknown) {
+      ++result.truth_free_known;
     }
   }
   result.fraction = Ratio(result.truth_free_known, result.truth_free_cells);

@@ -98,6 +98,17 @@ struct Coverage {
 Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_world,
                          const OccupancyGrid& truth);
 
+// ComputeCoverage for a timeline: the truth's free cells are placed in "map"
+// once, so each map costs one lookup per truly free cell (same result).
+class CoverageEvaluator {
+ public:
+  CoverageEvaluator(const OccupancyGrid& truth, const Pose2d& map_in_world);
+  Coverage Evaluate(const OccupancyGrid& slam_map) const;
+
+ private:
+  std::vector<Point2d> truth_free_in_map_m_;  // centres of the truly free cells, in "map"
+};
+
 // Compares `slam_map` (in "map") with `truth` (in "world"), the SLAM map
 // placed in the world by `map_in_world` (the true pose of the first
 // keyframe). Truth cells off the grid count as solid, as in the simulator.

@@ -288,8 +288,8 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   if (segments.empty()) return frontiers;
 
   // Step 4: targets in the navigator's costmap, reachable from the robot.
-  const Costmap costmap(map, options.costmap);
-  m.reachable.Compute(costmap, map.WorldToCell(robot_m), options.global_planner);
+  m.costmap.Update(map, options.costmap);
+  m.reachable.Compute(m.costmap, map.WorldToCell(robot_m), options.global_planner);
   const ReachableCells& reachability = m.reachable;
   s.used_planner_search = reachability.used_planner_search();
   for (std::vector<CellIndex>& segment : segments) {

@@ -95,6 +95,7 @@ class ReachableCells {
 // Buffers kept between extractions, so that maps of one size allocate nothing new.
 struct FrontierScratch {
   cv::Mat unknown, free, near_unknown, frontier, labels, stats, centroids;
+  Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
 };
 

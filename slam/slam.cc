@@ -25,6 +25,16 @@ Pose2d Interpolate(const Pose2d& a, const Pose2d& b, double fraction) {
                 WrapAngle(a.yaw_rad + fraction * WrapAngle(b.yaw_rad - a.yaw_rad))};
 }
 
+// How far from the base a beam of `scan` reaches into the map: the farthest
+// valid return (or no-return clearing) plus the sensor's offset.
+double BeamReachM(const LidarScan& scan, double no_return_clear_m) {
+  double reach_m = no_return_clear_m;
+  for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
+    if (scan.IsValidReturn(i)) reach_m = std::max(reach_m, static_cast<double>(scan.range_m[i]));
+  }
+  return reach_m + std::hypot(scan.sensor_pose.x_m, scan.sensor_pose.y_m);
+}
+
 void Require(bool condition, const std::string& field, double value, const char* rule) {
   if (!condition) {
     throw std::invalid_argument(field + " = " + std::to_string(value) + ": " + rule);
@@ -83,6 +93,8 @@ void ValidateSlamOptions(const SlamOptions& o) {
   Require(l.keyframes_between_attempts >= 1, "loop_closure.keyframes_between_attempts",
           l.keyframes_between_attempts, "must be >= 1");
   Require(l.max_chi_square > 0, "loop_closure.max_chi_square", l.max_chi_square, "must be > 0");
+  Require(l.map_rerender_tolerance_m >= 0, "loop_closure.map_rerender_tolerance_m",
+          l.map_rerender_tolerance_m, "must be >= 0");
   const InputOptions& in = o.input;
   Require(in.min_valid_points >= 3, "input.min_valid_points", in.min_valid_points, "must be >= 3");
   Require(in.max_linear_speed_mps > 0, "input.max_linear_speed_mps", in.max_linear_speed_mps,
@@ -291,7 +303,8 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
     graph_.edges.push_back(edge);
   }
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
-  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan});
+  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose,
+                                BeamReachM(scan, options_.mapper.no_return_clear_m)});
   if (!map_stale_) mapper_.InsertScan(pose, scan);  // a stale map is rebuilt from every keyframe
   ++map_revision_;
   ++graph_revision_;
@@ -348,9 +361,24 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
     ++counters_.loop_closures_rejected;
     ++update->loop_closures_rejected;
   }
-  map_stale_ = true;
-  ++map_revision_;
-  update->map_invalidated = true;
+  if (!map_stale_ && map_drift_m() > lc.map_rerender_tolerance_m) {
+    map_stale_ = true;
+    ++map_revision_;
+    update->map_invalidated = true;
+  }
+}
+
+double Slam::map_drift_m() const {
+  double worst_m = 0.0;
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    const Pose2d& mapped = keyframes_[i].mapped_pose;
+    const Pose2d& now = graph_.nodes[i].pose;
+    // A beam end at distance q from the base moves by at most |dt| + q |dyaw|.
+    worst_m = std::max(worst_m, std::hypot(now.x_m - mapped.x_m, now.y_m - mapped.y_m) +
+                                    keyframes_[i].beam_reach_m *
+                                        std::abs(WrapAngle(now.yaw_rad - mapped.yaw_rad)));
+  }
+  return worst_m;
 }
 
 bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
@@ -405,6 +433,7 @@ OccupancyGrid Slam::RenderMap() {
     mapper_.Clear();
     for (std::size_t i = 0; i < keyframes_.size(); ++i) {
       mapper_.InsertScan(graph_.nodes[i].pose, keyframes_[i].scan);
+      keyframes_[i].mapped_pose = graph_.nodes[i].pose;
     }
     map_stale_ = false;
   }

@@ -67,9 +67,9 @@ struct ScanUpdate {
   int loop_closures_rejected = 0;
   bool graph_changed = false;  // nodes, edges or poses changed
   bool graph_optimized = false;
-  // Optimization moved the keyframes: the next RenderMap() re-inserts every
-  // keyframe scan at its optimized pose (done there, not per scan, because
-  // it costs ~0.13 ms per keyframe and a map is wanted at most ~1 Hz).
+  // Optimization moved some keyframe beyond loop_closure.map_rerender_tolerance_m:
+  // the next RenderMap() re-inserts every keyframe scan at its optimized pose
+  // (done there, not per scan: it costs ~0.13 ms per keyframe).
   bool map_invalidated = false;
 };
 
@@ -90,6 +90,9 @@ class Slam {
   // The occupancy grid of every keyframe at its current pose; re-renders
   // from all keyframes first when optimization has moved them.
   OccupancyGrid RenderMap();
+  // The farthest any keyframe's beams lie from where the mapper has them:
+  // what the map lags the graph by (0 right after a re-render).
+  double map_drift_m() const;
   // The latest SLAM pose (latest keyframe ⊕ odometry since it); none before the first scan.
   const std::optional<StampedPose>& latest_pose() const { return latest_pose_; }
   const SlamCounters& counters() const { return counters_; }
@@ -102,13 +105,16 @@ class Slam {
     int64_t utime = 0;
     Pose2d odom_pose;  // odometry at the keyframe's scan
     std::shared_ptr<const PointCloud2d> points;
-    LidarScan scan;  // kept to re-render the map after optimization
+    LidarScan scan;      // kept to re-render the map after optimization
+    Pose2d mapped_pose;  // where the map has this scan (the pose when last inserted)
+    double beam_reach_m = 0.0;
   };
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
   void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                    std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
   void TryLoopClosure(int node_id, ScanUpdate* update);
+
   // Optimizes, then removes loop closures that tear the graph; returns false if
   // the closure just added (edge index `new_edge`) had to be removed.
   bool OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update);

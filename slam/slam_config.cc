@@ -36,6 +36,7 @@ void LoadLoopClosure(const ConfigReader& c, LoopClosureOptions* o) {
   c.ReadInRange("min_response", &o->min_response, 0.0, 1.0);
   c.ReadInRange("keyframes_between_attempts", &o->keyframes_between_attempts, 1, 1000000);
   c.ReadInRange("max_chi_square", &o->max_chi_square, 1e-3, 1e9);
+  c.ReadInRange("map_rerender_tolerance_m", &o->map_rerender_tolerance_m, 0.0, 10.0);
 }
 
 void LoadScanMatcher(const ConfigReader& c, ScanMatcherOptions* o) {

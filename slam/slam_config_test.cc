@@ -41,6 +41,7 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.loop_closure.min_response, y.loop_closure.min_response);
   EXPECT_EQ(x.loop_closure.keyframes_between_attempts, y.loop_closure.keyframes_between_attempts);
   EXPECT_EQ(x.loop_closure.max_chi_square, y.loop_closure.max_chi_square);
+  EXPECT_EQ(x.loop_closure.map_rerender_tolerance_m, y.loop_closure.map_rerender_tolerance_m);
 
   EXPECT_EQ(x.scan_matcher.resolution_m, y.scan_matcher.resolution_m);
   EXPECT_EQ(x.scan_matcher.smear_sigma_m, y.scan_matcher.smear_sigma_m);
@@ -94,7 +95,7 @@ struct LoopClosureFields {
   int i[2];
   double d[3];
   int i2;
-  double d2;
+  double d2[2];
 };
 struct ScanMatcherFields {
   double d[2];
@@ -166,6 +167,7 @@ slam:
     min_response: 0.6
     keyframes_between_attempts: 3
     max_chi_square: 20.0
+    map_rerender_tolerance_m: 0.05
   scan_matcher:
     resolution_m: 0.04
     smear_sigma_m: 0.06
@@ -218,6 +220,7 @@ slam:
   EXPECT_EQ(o.loop_closure.min_response, 0.6);
   EXPECT_EQ(o.loop_closure.keyframes_between_attempts, 3);
   EXPECT_EQ(o.loop_closure.max_chi_square, 20.0);
+  EXPECT_EQ(o.loop_closure.map_rerender_tolerance_m, 0.05);
   EXPECT_EQ(o.scan_matcher.resolution_m, 0.04);
   EXPECT_EQ(o.scan_matcher.smear_sigma_m, 0.06);
   EXPECT_EQ(o.scan_matcher.coarse_factor, 3);

@@ -52,7 +52,7 @@ bool SlamNode::OnScan(const lidar_scan_t& msg) {
 
   const bool map_changed = slam_.map_revision() != published_map_revision_;
   // Consumers must see a closure's corrected map at once, not up to a period later.
-  const bool urgent = update.map_invalidated || update.loop_closures_accepted > 0;
+  const bool urgent = update.map_invalidated;
   const int64_t period_us = std::llround(node_options_.map_period_s * 1e6);
   const bool due = maps_published_ == 0 || scan->utime - last_map_utime_ >= period_us;
   if (map_changed && (urgent || due)) PublishMap(scan->utime);

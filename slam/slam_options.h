@@ -37,6 +37,10 @@ struct LoopClosureOptions {
   // After optimization, a loop-closure edge whose chi-square exceeds this tears the
   // graph: it is removed and the graph re-optimized.
   double max_chi_square = 25.0;
+  // After optimization the map is re-rendered from every keyframe only when some
+  // keyframe's beams moved farther than this from where the map has them (bound:
+  // translation + beam reach x rotation); 0 re-renders after every optimization.
+  double map_rerender_tolerance_m = 0.025;
 };
 
 struct InputOptions {

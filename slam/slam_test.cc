@@ -228,5 +228,54 @@ TEST(Slam, LoopOfTheTestWorldClosesAndStaysAccurate) {
   EXPECT_LT(max_error, 0.25);
 }
 
+// Drives the lap, rendering the map after every scan as the node may; returns
+// how many scans invalidated the map and how many optimized the graph.
+std::pair<int, int> LapInvalidationsAndOptimizations(Slam* slam, double* worst_drift_m) {
+  SimulatedRun run;
+  const ScriptedDrive drive = LoadScriptedDrive(kRoot + "/config/drives/test_loop.yaml");
+  Simulator& sim = run.sim();
+  int invalidations = 0, optimizations = 0;
+  *worst_drift_m = 0.0;
+  while (const auto command = drive.CommandAt(sim.utime())) {
+    sim.SetCommand(*command);
+    const SimStepOutput out = sim.Step();
+    if (out.odometry) slam->AddOdometry(*out.odometry);
+    if (!out.scan) continue;
+    const ScanUpdate update = slam->AddScan(*out.scan);
+    invalidations += update.map_invalidated;
+    optimizations += update.graph_optimized;
+    if (update.keyframe_added) {
+      slam->RenderMap();
+      *worst_drift_m = std::max(*worst_drift_m, slam->map_drift_m());
+    }
+  }
+  return {invalidations, optimizations};
+}
+
+// The map is re-rendered after an optimization only when it would lag the graph by
+// more than the tolerance; with tolerance 0, after every optimization.
+TEST(Slam, MapIsReRenderedOnlyWhenClosuresMoveBeamsBeyondTheTolerance) {
+  SlamOptions exact;
+  exact.loop_closure.map_rerender_tolerance_m = 0.0;
+  Slam always(exact);
+  double drift_m = 0.0;
+  const auto [always_invalidated, always_optimized] =
+      LapInvalidationsAndOptimizations(&always, &drift_m);
+  ASSERT_GE(always_optimized, 1);
+  EXPECT_EQ(always_invalidated, always_optimized);
+  EXPECT_EQ(drift_m, 0.0);
+
+  SlamOptions tolerant;
+  tolerant.loop_closure.map_rerender_tolerance_m = 0.10;
+  Slam lazy(tolerant);
+  const auto [lazy_invalidated, lazy_optimized] = LapInvalidationsAndOptimizations(&lazy, &drift_m);
+  EXPECT_EQ(lazy_optimized, always_optimized);  // the same graph: only the map is lazier
+  EXPECT_LT(lazy_invalidated, lazy_optimized);
+  EXPECT_GT(drift_m, 0.0);
+  EXPECT_LE(drift_m, 0.10);
+  std::printf("test-world lap: %d optimizations, %d re-renders at 0.10 m (worst lag %.3f m)\n",
+              lazy_optimized, lazy_invalidated, drift_m);
+}
+
 }  // namespace
 }  // namespace aslam
