@@ -68,6 +68,9 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   write("comparison.md", sections([&](const SettingRecords& g) {
           return ComparisonMarkdown(g.records, worlds, methods, duration_s);
         }));
+  write("cost.md", sections([&](const SettingRecords& g) {
+          return CostMarkdown(g.records, worlds, methods);
+        }));
   write("curves.csv", sweep ? CurvesCsv(curves_by_setting) : CurvesCsv(groups.front().curves));
   if (sweep) write("sweep.md", SweepMarkdown(records, labels, worlds, methods, duration_s));
 

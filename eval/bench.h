@@ -10,7 +10,7 @@
 //
 // Layout of OUT: runs/<world>/<method>/seed_<NN>/ (run folders, with the
 // child's output in explore.log), runs.csv, table1.md, table2.md,
-// coverage.md, comparison.md, curves.csv, fig3.png, fig4.png,
+// coverage.md, comparison.md, cost.md, curves.csv, fig3.png, fig4.png,
 // fig5_<world>.png (+ fig5_<world>_*.{png,csv} inputs of that figure),
 // bench.log (the plotting tool's output).
 // With --set (eval/bench_settings.h): runs/<label>/<world>/<method>/seed_<NN>/;

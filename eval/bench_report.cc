@@ -280,6 +280,46 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records, const BenchC
   return out;
 }
 
+std::string CostMarkdown(const std::vector<RunRecord>& records,
+                         const std::vector<std::string>& worlds,
+                         const std::vector<std::string>& methods) {
+  static const char* const kNodes[] = {"sim", "slam", "frontier", "utility", "nav", "evaluation"};
+  std::string out =
+      "| world | method | runs | sim s per CPU s | first 300 s | last 300 s | last / first |";
+  for (const char* node : kNodes) out += std::string(" ") + node + " % |";
+  out += " CPU s, all runs |\n|---|---|---|---|---|---|---|";
+  for (std::size_t i = 0; i <= std::size(kNodes); ++i) out += "---|";
+  out += "\n";
+  auto cell = [](double value, const char* format) {
+    return std::isfinite(value) ? Format(format, value) : std::string("–");
+  };
+  for (const std::string& world : worlds) {
+    for (const std::string& method : methods) {
+      const std::vector<double> first = ValuesOf(records, world, method, "sim_per_cpu_first_300s");
+      const std::vector<double> last = ValuesOf(records, world, method, "sim_per_cpu_last_300s");
+      const std::vector<double> totals = ValuesOf(records, world, method, "node_cpu_s.total");
+      std::vector<double> ratios;
+      for (std::size_t i = 0; i < first.size(); ++i) ratios.push_back(last[i] / first[i]);
+      double cpu_sum_s = 0.0;
+      for (const double t : totals) cpu_sum_s += std::isnan(t) ? 0.0 : t;
+      out += "| " + world + " | " + method + " | " + std::to_string(totals.size()) + " | " +
+             cell(Median(ValuesOf(records, world, method, "sim_per_cpu")), "%.1f") + " | " +
+             cell(Median(first), "%.1f") + " | " + cell(Median(last), "%.1f") + " | " +
+             cell(Median(ratios), "%.2f") + " |";
+      for (const char* node : kNodes) {
+        const std::vector<double> node_s =
+            ValuesOf(records, world, method, std::string("node_cpu_s.") + node);
+        std::vector<double> shares;
+        for (std::size_t i = 0; i < node_s.size(); ++i)
+          shares.push_back(100 * node_s[i] / totals[i]);
+        out += " " + cell(Median(shares), "%.0f") + " |";
+      }
+      out += " " + cell(cpu_sum_s, "%.0f") + " |\n";
+    }
+  }
+  return out;
+}
+
 std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
                                const std::vector<std::string>& worlds,
                                const std::vector<std::string>& methods, double duration_s) {

@@ -2,7 +2,7 @@
 
 // `aslam bench`'s report tables from the finished runs (docs/architecture.md §6):
 // runs.csv, Table I (table1.md), Table II (table2.md), coverage.md,
-// comparison.md, the mean curves (curves.csv) and a --set sweep's summary
+// comparison.md, cost.md, the mean curves (curves.csv) and a --set sweep's summary
 // (sweep.md). Text only; the statistics come from eval/stats.h. The tables take
 // one setting's runs; eval/bench.cc puts one section per setting in each file.
 
@@ -54,6 +54,13 @@ std::string CoverageMarkdown(const std::vector<RunRecord>& records, const BenchC
 std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
                                const std::vector<std::string>& worlds,
                                const std::vector<std::string>& methods, double duration_s);
+// What the runs cost (in-process runs' metrics.json): per world and method, the
+// medians of simulated seconds per CPU second over the run and over its first and
+// last 300 s, their ratio (1 = cost flat as the map grows), the median share of
+// each node's CPU, and the CPU seconds of all runs together.
+std::string CostMarkdown(const std::vector<RunRecord>& records,
+                         const std::vector<std::string>& worlds,
+                         const std::vector<std::string>& methods);
 // A sweep in one table: per world, method and setting (settings adjacent, so a parameter's
 // effect reads down the column), the runs and the medians of coverage, time to 90 % (never
 // reached counting as the latest), ATE RMSE and algebraic connectivity.

@@ -139,6 +139,42 @@ TEST(BenchReportTest, ComparisonAgainstTheReferenceMethod) {
   EXPECT_NE(table.find("| w | A.C | – | – | – |"), std::string::npos) << table;  // no values at all
 }
 
+TEST(BenchReportTest, CostTableFromKnownRuns) {
+  std::vector<RunRecord> records;
+  // sim s per CPU s, first and last 300 s, slam and total CPU seconds.
+  const struct {
+    const char* method;
+    const char* rate;
+    const char* first;
+    const char* last;
+    const char* slam_s;
+    const char* total_s;
+  } runs[] = {{"ours", "20", "40", "20", "30", "90"},
+              {"ours", "30", "50", "40", "10", "60"},
+              {"ours", "25", "60", "30", "20", "60"},
+              {"fd", "null", "null", "null", "null", "null"}};  // a process-mode run
+  int seed = 0;
+  for (const auto& spec : runs) {
+    RunRecord r;
+    r.run = {"w", "w", spec.method, ++seed, "unused", "", ""};
+    r.fields = {{"sim_per_cpu", spec.rate},
+                {"sim_per_cpu_first_300s", spec.first},
+                {"sim_per_cpu_last_300s", spec.last},
+                {"node_cpu_s.slam", spec.slam_s},
+                {"node_cpu_s.total", spec.total_s}};
+    records.push_back(r);
+  }
+  const std::string table = CostMarkdown(records, {"w"}, {"fd", "ours"});
+  // Ratios 0.5, 0.8, 0.5: median 0.5; slam shares 33, 17, 33 %: median 33; 210 CPU s in all.
+  EXPECT_NE(
+      table.find("| w | ours | 3 | 25.0 | 50.0 | 30.0 | 0.50 | – | 33 | – | – | – | – | 210 |"),
+      std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| w | fd | 1 | – | – | – | – | – | – | – | – | – | – | 0 |"),
+            std::string::npos)
+      << table;
+}
+
 // A sweep's reports: each markdown file one section per setting holding only that setting's
 // runs, a setting column in runs.csv and curves.csv, sweep.md's medians per setting.
 TEST(BenchReportTest, SweepReportsAreGroupedBySetting) {

@@ -88,7 +88,8 @@ void OccupancyMapper::GrowToCover(int min_col, int min_row, int max_col, int max
   origin_row_ = new_min_row;
 }
 
-void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& scan) {
+std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_map,
+                                                        const LidarScan& scan) {
   const Pose2d sensor = base_in_map.Compose(scan.sensor_pose);
   if (!std::isfinite(sensor.x_m) || !std::isfinite(sensor.y_m) || !std::isfinite(sensor.yaw_rad) ||
       std::abs(sensor.x_m) > 1e6 || std::abs(sensor.y_m) > 1e6) {
@@ -97,12 +98,10 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
     std::abort();  // the front end hands us optimized poses: garbage here is a bug
   }
   const double inv_res = 1.0 / options_.resolution_m;
-  const int sensor_col = static_cast<int>(std::floor(sensor.x_m * inv_res));
-  const int sensor_row = static_cast<int>(std::floor(sensor.y_m * inv_res));
-
-  // Pass 1: beam end cells (global indices) and their bounding box.
+  sensor_col_ = static_cast<int>(std::floor(sensor.x_m * inv_res));
+  sensor_row_ = static_cast<int>(std::floor(sensor.y_m * inv_res));
   beam_ends_.clear();
-  int min_col = sensor_col, max_col = sensor_col, min_row = sensor_row, max_row = sensor_row;
+  CellBox box{sensor_col_, sensor_row_, sensor_col_, sensor_row_};
   for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
     const float range = scan.range_m[i];
     double length_m;
@@ -123,15 +122,67 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
     const int row =
         static_cast<int>(std::floor((sensor.y_m + length_m * std::sin(angle)) * inv_res));
     beam_ends_.push_back({col, row, hit});
-    min_col = std::min(min_col, col);
-    max_col = std::max(max_col, col);
-    min_row = std::min(min_row, row);
-    max_row = std::max(max_row, row);
+    box.min_col = std::min(box.min_col, col);
+    box.max_col = std::max(box.max_col, col);
+    box.min_row = std::min(box.min_row, row);
+    box.max_row = std::max(box.max_row, row);
   }
-  if (beam_ends_.empty()) return;
+  if (beam_ends_.empty()) return std::nullopt;
+  return box;
+}
+
+std::optional<CellBox> OccupancyMapper::ScanFootprint(const Pose2d& base_in_map,
+                                                      const LidarScan& scan) {
+  return ComputeBeamEnds(base_in_map, scan);
+}
+
+std::optional<CellBox> OccupancyMapper::InsertScan(const Pose2d& base_in_map,
+                                                   const LidarScan& scan) {
+  return Insert<false>(base_in_map, scan);
+}
+
+void OccupancyMapper::RerenderRegion(const std::vector<CellBox>& region,
+                                     const std::vector<PosedScan>& scans) {
+  if (region.empty()) return;
+  // One growth for everything below, so the mask stays aligned with the grid.
+  CellBox all = region.front();
+  for (const CellBox& box : region) {
+    all = {std::min(all.min_col, box.min_col), std::min(all.min_row, box.min_row),
+           std::max(all.max_col, box.max_col), std::max(all.max_row, box.max_row)};
+  }
+  for (const PosedScan& posed : scans) {
+    const CellBox& box = posed.footprint;
+    all = {std::min(all.min_col, box.min_col), std::min(all.min_row, box.min_row),
+           std::max(all.max_col, box.max_col), std::max(all.max_row, box.max_row)};
+  }
+  GrowToCover(all.min_col, all.min_row, all.max_col, all.max_row);
+  region_mask_.assign(cells_.size(), 0);
+  for (const CellBox& box : region) {
+    for (int row = box.min_row; row <= box.max_row; ++row) {
+      const std::size_t first =
+          static_cast<std::size_t>(row - origin_row_) * width_cells_ + (box.min_col - origin_col_);
+      const std::size_t count = static_cast<std::size_t>(box.max_col - box.min_col + 1);
+      std::fill_n(region_mask_.begin() + first, count, 1);
+      for (std::size_t i = first; i < first + count; ++i) cells_[i].log_odds = kUnobserved;
+    }
+  }
+  for (const PosedScan& posed : scans) {
+    region_boxes_.clear();  // the region boxes this scan can reach
+    for (const CellBox& box : region) {
+      if (box.Intersects(posed.footprint)) region_boxes_.push_back(box);
+    }
+    Insert<true>(posed.base_in_map, *posed.scan);
+  }
+}
+
+template <bool kInRegionOnly>
+std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const LidarScan& scan) {
+  // Pass 1: beam end cells (global indices) and their bounding box.
+  const std::optional<CellBox> footprint = ComputeBeamEnds(base_in_map, scan);
+  if (!footprint) return std::nullopt;
 
   // One growth per scan; every cell touched below is then inside the grid.
-  GrowToCover(min_col, min_row, max_col, max_row);
+  GrowToCover(footprint->min_col, footprint->min_row, footprint->max_col, footprint->max_row);
   empty_ = false;
   if (++scan_stamp_ == 0) {  // wrapped: old stamps could collide
     for (Cell& cell : cells_) cell.stamp = 0;
@@ -143,16 +194,19 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
   const float lo_min = static_cast<float>(options_.log_odds_min);
   const float lo_max = static_cast<float>(options_.log_odds_max);
   Cell* const grid = cells_.data();
+  const uint8_t* const in_region = region_mask_.data();
   const int width = width_cells_;
 
   auto update = [&](std::ptrdiff_t index, float delta) {
+    if constexpr (kInRegionOnly) {
+      if (!in_region[index]) return;
+    }
     Cell& cell = grid[index];
     if (cell.stamp == stamp) return;
     cell.stamp = stamp;
     const float value = std::isnan(cell.log_odds) ? 0.0f : cell.log_odds;
     cell.log_odds = std::clamp(value + delta, lo_min, lo_max);
   };
-
   // Pass 2: hits first, so a miss of another beam in this scan cannot touch them.
   for (BeamEnd& end : beam_ends_) {
     end.col -= origin_col_;
@@ -164,10 +218,20 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
   // included for a no-return beam. Bresenham on cell indices, written as one
   // step along the major axis per cell plus a carry on the minor axis, so the
   // stepping has no data-dependent branch.
-  const int start_col = sensor_col - origin_col_;
-  const int start_row = sensor_row - origin_row_;
+  const int start_col = sensor_col_ - origin_col_;
+  const int start_row = sensor_row_ - origin_row_;
   const std::ptrdiff_t start_index = static_cast<std::ptrdiff_t>(start_row) * width + start_col;
   for (const BeamEnd& end : beam_ends_) {
+    if constexpr (kInRegionOnly) {
+      // A beam whose box meets no region box cannot touch the region: skip its walk.
+      const CellBox beam{
+          std::min(start_col, end.col) + origin_col_, std::min(start_row, end.row) + origin_row_,
+          std::max(start_col, end.col) + origin_col_, std::max(start_row, end.row) + origin_row_};
+      if (std::none_of(region_boxes_.begin(), region_boxes_.end(),
+                       [&](const CellBox& box) { return box.Intersects(beam); })) {
+        continue;
+      }
+    }
     const int dx = std::abs(end.col - start_col);
     const int dy = std::abs(end.row - start_row);
     const std::ptrdiff_t step_x = end.col > start_col ? 1 : -1;
@@ -188,6 +252,7 @@ void OccupancyMapper::InsertScan(const Pose2d& base_in_map, const LidarScan& sca
     }
     if (!end.hit) update(index, miss_lo);
   }
+  return footprint;
 }
 
 OccupancyGrid OccupancyMapper::Render() const {
@@ -195,9 +260,22 @@ OccupancyGrid OccupancyMapper::Render() const {
   const double res = options_.resolution_m;
   OccupancyGrid grid(width_cells_, height_cells_, res, {origin_col_ * res, origin_row_ * res});
   std::vector<int8_t>& cells = grid.mutable_cells();
+  // Log-odds clearly past a threshold's logit render without exp(); near it, as below.
+  const double free_logit = std::log(options_.free_threshold / (1.0 - options_.free_threshold));
+  const double occupied_logit =
+      std::log(options_.occupied_threshold / (1.0 - options_.occupied_threshold));
+  constexpr double kMargin = 1e-6;
   for (std::size_t i = 0; i < cells_.size(); ++i) {
     const float value = cells_[i].log_odds;
     if (std::isnan(value)) continue;  // stays kUnknown
+    if (value < free_logit - kMargin) {
+      cells[i] = OccupancyGrid::kFree;
+      continue;
+    }
+    if (value > occupied_logit + kMargin) {
+      cells[i] = OccupancyGrid::kOccupied;
+      continue;
+    }
     const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(value)));
     cells[i] = p <= options_.free_threshold       ? OccupancyGrid::kFree
                : p >= options_.occupied_threshold ? OccupancyGrid::kOccupied

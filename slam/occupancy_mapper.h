@@ -5,6 +5,7 @@
 // grows to cover whatever is inserted. Rendered in the ROS convention.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -29,6 +30,18 @@ struct OccupancyMapperOptions {
   double occupied_threshold = 0.65;
 };
 
+// Global cells [min, max] (both included), in floor(map / resolution) indices.
+struct CellBox {
+  int min_col = 0;
+  int min_row = 0;
+  int max_col = -1;
+  int max_row = -1;
+  bool Intersects(const CellBox& other) const {
+    return min_col <= other.max_col && other.min_col <= max_col && min_row <= other.max_row &&
+           other.min_row <= max_row;
+  }
+};
+
 class OccupancyMapper {
  public:
   // Throws std::invalid_argument naming the option on a bad value.
@@ -42,7 +55,23 @@ class OccupancyMapper {
   // the same scan cannot erase it. Range 0 is a beam without a return (see
   // options); NaN, inf, negative, out-of-[range_min, range_max] and > 100 m
   // beams are skipped. Aborts on a non-finite pose (a bug upstream).
-  void InsertScan(const Pose2d& base_in_map, const LidarScan& scan);
+  // Returns the cells the scan may have changed (none: no usable beam).
+  std::optional<CellBox> InsertScan(const Pose2d& base_in_map, const LidarScan& scan);
+  // The cells InsertScan(base_in_map, scan) would change, without changing any.
+  std::optional<CellBox> ScanFootprint(const Pose2d& base_in_map, const LidarScan& scan);
+
+  // A scan to re-insert, with its footprint at that pose.
+  struct PosedScan {
+    Pose2d base_in_map;
+    const LidarScan* scan = nullptr;
+    CellBox footprint;
+  };
+  // Re-renders the cells of `region` only: forgets what they observed, then
+  // re-inserts `scans` in order, changing nothing outside the region. Given
+  // every scan of the map whose footprint meets the region, in the order of
+  // insertion, the region ends as a fresh insertion of all of them would leave
+  // it (log-odds are clamped in insertion order, so order matters).
+  void RerenderRegion(const std::vector<CellBox>& region, const std::vector<PosedScan>& scans);
 
   // -1 never observed, else round(100 * p_occupied). Empty grid when empty().
   OccupancyGrid Render() const;
@@ -60,6 +89,12 @@ class OccupancyMapper {
 
   // Grows the grid so the global cells [min, max] fit, with growth_margin_m to spare.
   void GrowToCover(int min_col, int min_row, int max_col, int max_row);
+  // Pass 1 of an insertion: beam end cells (global indices) into beam_ends_, and their
+  // box with the sensor's cell; none when no beam is usable. Aborts on a non-finite pose.
+  std::optional<CellBox> ComputeBeamEnds(const Pose2d& base_in_map, const LidarScan& scan);
+  // The insertion; with kInRegionOnly, cells outside region_mask_ are left alone.
+  template <bool kInRegionOnly>
+  std::optional<CellBox> Insert(const Pose2d& base_in_map, const LidarScan& scan);
 
   OccupancyMapperOptions options_;
   int width_cells_ = 0;
@@ -75,7 +110,11 @@ class OccupancyMapper {
   std::vector<Cell> cells_;  // row-major; side by side, one cache line per visit
   uint32_t scan_stamp_ = 0;
   bool empty_ = true;
-  std::vector<BeamEnd> beam_ends_;  // scratch for InsertScan
+  std::vector<BeamEnd> beam_ends_;     // scratch for InsertScan
+  std::vector<uint8_t> region_mask_;   // RerenderRegion's cells, one per grid cell
+  std::vector<CellBox> region_boxes_;  // ...and the region's boxes the current scan meets
+  int sensor_col_ = 0;                 // ComputeBeamEnds' sensor cell (global)
+  int sensor_row_ = 0;
 };
 
 }  // namespace aslam

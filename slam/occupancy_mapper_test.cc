@@ -178,6 +178,60 @@ TEST(OccupancyMapperTest, ClearForgetsAndReinsertingReproducesTheMap) {
   EXPECT_EQ(second.cells(), first.cells());
 }
 
+// Moving one scan: re-rendering the cells it covers (before and after) from every
+// scan that meets them leaves the map a fresh insertion at the new pose would give.
+TEST(OccupancyMapperTest, RerenderRegionEqualsAFreshMapWithTheScanMoved) {
+  LidarScan scan = ForwardScan({});
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = 2.0 * M_PI / 90;
+  for (int i = 0; i < 90; ++i) scan.range_m.push_back(1.0f + 0.02f * (i % 7));
+  const Pose2d first{0.0, 0.0, 0.0}, moved_from{0.5, 0.0, 0.1}, moved_to{0.58, 0.05, 0.14},
+      third{1.2, 0.2, 0.3}, far{8.0, 0.0, 0.0};
+
+  // Thresholds that render every log-odds value apart, so a cell updated twice shows.
+  OccupancyMapperOptions options;
+  options.free_threshold = 0.01;
+  options.occupied_threshold = 0.99;
+  OccupancyMapper mapper(options);
+  std::vector<std::pair<Pose2d, CellBox>> inserted;
+  for (const Pose2d& pose : {first, moved_from, third, far}) {
+    const std::optional<CellBox> footprint = mapper.InsertScan(pose, scan);
+    ASSERT_TRUE(footprint.has_value());
+    inserted.emplace_back(pose, *footprint);
+  }
+  const std::optional<CellBox> new_footprint = mapper.ScanFootprint(moved_to, scan);
+  ASSERT_TRUE(new_footprint.has_value());
+  const std::vector<CellBox> region = {inserted[1].second, *new_footprint};
+  inserted[1] = {moved_to, *new_footprint};
+  std::vector<OccupancyMapper::PosedScan> scans;
+  for (const auto& [pose, footprint] : inserted) {
+    if (footprint.Intersects(region[0]) || footprint.Intersects(region[1])) {
+      scans.push_back({pose, &scan, footprint});
+    }
+  }
+  ASSERT_EQ(scans.size(), 3u);  // the far scan does not meet the region
+  mapper.RerenderRegion(region, scans);
+
+  OccupancyMapper fresh(options);
+  for (const Pose2d& pose : {first, moved_to, third, far}) fresh.InsertScan(pose, scan);
+  const OccupancyGrid expected = fresh.Render();
+  const OccupancyGrid actual = mapper.Render();
+  int known = 0;
+  for (int row = 0; row < expected.height_cells(); ++row) {
+    for (int col = 0; col < expected.width_cells(); ++col) {
+      const Point2d centre = expected.CellCenter({col, row});
+      ASSERT_EQ(At(actual, centre.x_m, centre.y_m), expected.at({col, row}))
+          << "at (" << centre.x_m << ", " << centre.y_m << ")";
+      known += expected.at({col, row}) != OccupancyGrid::kUnknown;
+    }
+  }
+  EXPECT_GT(known, 1000);
+  // And nothing known in the result lies outside the fresh map.
+  int actual_known = 0;
+  for (const int8_t value : actual.cells()) actual_known += value != OccupancyGrid::kUnknown;
+  EXPECT_EQ(actual_known, known);
+}
+
 TEST(OccupancyMapperTest, BadOptionsThrowNamingTheOption) {
   OccupancyMapperOptions options;
   options.resolution_m = 0.0;

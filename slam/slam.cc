@@ -303,9 +303,9 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
     graph_.edges.push_back(edge);
   }
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
-  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose,
+  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose, std::nullopt,
                                 BeamReachM(scan, options_.mapper.no_return_clear_m)});
-  if (!map_stale_) mapper_.InsertScan(pose, scan);  // a stale map is rebuilt from every keyframe
+  keyframes_.back().footprint = mapper_.InsertScan(pose, scan);
   ++map_revision_;
   ++graph_revision_;
   update->keyframe_added = true;
@@ -361,23 +361,24 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
     ++counters_.loop_closures_rejected;
     ++update->loop_closures_rejected;
   }
-  if (!map_stale_ && map_drift_m() > lc.map_rerender_tolerance_m) {
+  if (map_drift_m() > lc.map_rerender_tolerance_m) {
     map_stale_ = true;
     ++map_revision_;
     update->map_invalidated = true;
   }
 }
 
+double Slam::DriftM(std::size_t keyframe) const {
+  const Pose2d& mapped = keyframes_[keyframe].mapped_pose;
+  const Pose2d& now = graph_.nodes[keyframe].pose;
+  // A beam end at distance q from the base moves by at most |dt| + q |dyaw|.
+  return std::hypot(now.x_m - mapped.x_m, now.y_m - mapped.y_m) +
+         keyframes_[keyframe].beam_reach_m * std::abs(WrapAngle(now.yaw_rad - mapped.yaw_rad));
+}
+
 double Slam::map_drift_m() const {
   double worst_m = 0.0;
-  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-    const Pose2d& mapped = keyframes_[i].mapped_pose;
-    const Pose2d& now = graph_.nodes[i].pose;
-    // A beam end at distance q from the base moves by at most |dt| + q |dyaw|.
-    worst_m = std::max(worst_m, std::hypot(now.x_m - mapped.x_m, now.y_m - mapped.y_m) +
-                                    keyframes_[i].beam_reach_m *
-                                        std::abs(WrapAngle(now.yaw_rad - mapped.yaw_rad)));
-  }
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) worst_m = std::max(worst_m, DriftM(i));
   return worst_m;
 }
 
@@ -429,15 +430,44 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
 }
 
 OccupancyGrid Slam::RenderMap() {
-  if (map_stale_) {
-    mapper_.Clear();
-    for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-      mapper_.InsertScan(graph_.nodes[i].pose, keyframes_[i].scan);
-      keyframes_[i].mapped_pose = graph_.nodes[i].pose;
-    }
-    map_stale_ = false;
-  }
+  if (map_stale_) RerenderDriftedKeyframes();
   return mapper_.Render();
+}
+
+void Slam::RerenderDriftedKeyframes() {
+  map_stale_ = false;
+  const double tolerance_m = options_.loop_closure.map_rerender_tolerance_m;
+  std::vector<bool> drifted(keyframes_.size(), false);
+  std::vector<std::optional<CellBox>> new_footprints(keyframes_.size());
+  std::vector<CellBox> region;  // every drifted keyframe's cells, at the old and the new pose
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    if (DriftM(i) <= tolerance_m) continue;
+    drifted[i] = true;
+    new_footprints[i] = mapper_.ScanFootprint(graph_.nodes[i].pose, keyframes_[i].scan);
+    for (const auto& box : {keyframes_[i].footprint, new_footprints[i]}) {
+      if (box) region.push_back(*box);
+    }
+  }
+  if (region.empty()) return;
+  // Every keyframe that covers part of the region, in insertion order, at the pose the map
+  // keeps for it: a fresh render of all keyframes would leave the region just so.
+  std::vector<OccupancyMapper::PosedScan> scans;
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    const Pose2d& pose = drifted[i] ? graph_.nodes[i].pose : keyframes_[i].mapped_pose;
+    const std::optional<CellBox>& footprint =
+        drifted[i] ? new_footprints[i] : keyframes_[i].footprint;
+    if (!footprint) continue;
+    if (std::any_of(region.begin(), region.end(),
+                    [&](const CellBox& box) { return box.Intersects(*footprint); })) {
+      scans.push_back({pose, &keyframes_[i].scan, *footprint});
+    }
+  }
+  mapper_.RerenderRegion(region, scans);
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    if (!drifted[i]) continue;
+    keyframes_[i].mapped_pose = graph_.nodes[i].pose;
+    keyframes_[i].footprint = new_footprints[i];
+  }
 }
 
 }  // namespace aslam

@@ -68,8 +68,8 @@ struct ScanUpdate {
   bool graph_changed = false;  // nodes, edges or poses changed
   bool graph_optimized = false;
   // Optimization moved some keyframe beyond loop_closure.map_rerender_tolerance_m:
-  // the next RenderMap() re-inserts every keyframe scan at its optimized pose
-  // (done there, not per scan: it costs ~0.13 ms per keyframe).
+  // the next RenderMap() re-inserts those keyframes at their optimized poses (done
+  // there, not per scan), re-rendering the cells they cover from every keyframe there.
   bool map_invalidated = false;
 };
 
@@ -87,8 +87,9 @@ class Slam {
   int64_t graph_revision() const { return graph_revision_; }
   // Increases whenever a scan is inserted or the map is invalidated.
   int64_t map_revision() const { return map_revision_; }
-  // The occupancy grid of every keyframe at its current pose; re-renders
-  // from all keyframes first when optimization has moved them.
+  // The occupancy grid of every keyframe, each at its pose within
+  // loop_closure.map_rerender_tolerance_m; first re-renders what optimization
+  // moved farther.
   OccupancyGrid RenderMap();
   // The farthest any keyframe's beams lie from where the mapper has them:
   // what the map lags the graph by (0 right after a re-render).
@@ -105,8 +106,9 @@ class Slam {
     int64_t utime = 0;
     Pose2d odom_pose;  // odometry at the keyframe's scan
     std::shared_ptr<const PointCloud2d> points;
-    LidarScan scan;      // kept to re-render the map after optimization
-    Pose2d mapped_pose;  // where the map has this scan (the pose when last inserted)
+    LidarScan scan;                    // kept to re-render the map after optimization
+    Pose2d mapped_pose;                // where the map has this scan (the pose when last inserted)
+    std::optional<CellBox> footprint;  // the cells it changed there
     double beam_reach_m = 0.0;
   };
 
@@ -114,6 +116,11 @@ class Slam {
   void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                    std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
   void TryLoopClosure(int node_id, ScanUpdate* update);
+  // Re-inserts, at their graph poses, the keyframes whose beams drifted beyond the
+  // tolerance: only the cells they cover at the old and the new pose are re-rendered.
+  void RerenderDriftedKeyframes();
+  // How far keyframe `keyframe`'s beams lie from where the mapper has them.
+  double DriftM(std::size_t keyframe) const;
 
   // Optimizes, then removes loop closures that tear the graph; returns false if
   // the closure just added (edge index `new_edge`) had to be removed.
@@ -132,7 +139,7 @@ class Slam {
   int64_t graph_revision_ = 0;
   int64_t map_revision_ = 0;
   int last_closure_attempt_node_ = -1000000;
-  bool map_stale_ = false;  // keyframes moved since the mapper last saw them
+  bool map_stale_ = false;  // keyframes drifted beyond the tolerance since the last render
 
   // Odometry, with a correction that hides resets ("rebases") of the raw stream.
   std::deque<Odometry> odometry_;  // corrected, oldest first
