@@ -40,7 +40,7 @@ struct LoopClosureOptions {
   // After optimization the map is re-rendered from every keyframe only when some
   // keyframe's beams moved farther than this from where the map has them (bound:
   // translation + beam reach x rotation); 0 re-renders after every optimization.
-  double map_rerender_tolerance_m = 0.025;
+  double map_rerender_tolerance_m = 0.01;
 };
 
 struct InputOptions {
