@@ -146,15 +146,8 @@ void OccupancyMapper::RerenderRegion(const std::vector<CellBox>& region,
   if (region.empty()) return;
   // One growth for everything below, so the mask stays aligned with the grid.
   CellBox all = region.front();
-  for (const CellBox& box : region) {
-    all = {std::min(all.min_col, box.min_col), std::min(all.min_row, box.min_row),
-           std::max(all.max_col, box.max_col), std::max(all.max_row, box.max_row)};
-  }
-  for (const PosedScan& posed : scans) {
-    const CellBox& box = posed.footprint;
-    all = {std::min(all.min_col, box.min_col), std::min(all.min_row, box.min_row),
-           std::max(all.max_col, box.max_col), std::max(all.max_row, box.max_row)};
-  }
+  for (const CellBox& box : region) all = all.Union(box);
+  for (const PosedScan& posed : scans) all = all.Union(posed.footprint);
   GrowToCover(all.min_col, all.min_row, all.max_col, all.max_row);
   region_mask_.assign(cells_.size(), 0);
   for (const CellBox& box : region) {

@@ -449,6 +449,14 @@ void Slam::RerenderDriftedKeyframes() {
     }
   }
   if (region.empty()) return;
+  // Many boxes (a large correction): their bounding box instead, a larger region that is
+  // just as exact and keeps the intersection tests below linear.
+  constexpr std::size_t kMaxRegionBoxes = 64;
+  if (region.size() > kMaxRegionBoxes) {
+    CellBox all = region.front();
+    for (const CellBox& box : region) all = all.Union(box);
+    region = {all};
+  }
   // Every keyframe that covers part of the region, in insertion order, at the pose the map
   // keeps for it: a fresh render of all keyframes would leave the region just so.
   std::vector<OccupancyMapper::PosedScan> scans;
