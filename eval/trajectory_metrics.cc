@@ -128,18 +128,28 @@ CoverageEvaluator::CoverageEvaluator(const OccupancyGrid& truth, const Pose2d& m
   }
 }
 
-Coverage CoverageEvaluator::Evaluate(const OccupancyGrid& slam_map) const {
+Coverage CoverageEvaluator::Evaluate(const OccupancyGrid& slam_map) {
+  const MapGeometry geometry{slam_map.width_cells(), slam_map.height_cells(),
+                             slam_map.resolution_m(), slam_map.origin_m()};
+  if (!(geometry == geometry_)) {
+    // The map grew (or is the first): place the truth's free cells on its grid again.
+    geometry_ = geometry;
+    cell_indices_.clear();
+    for (const Point2d& p : truth_free_in_map_m_) {
+      // WorldToCell written out.
+      const CellIndex cell{
+          static_cast<int>(std::floor((p.x_m - geometry.origin_m.x_m) / geometry.resolution_m)),
+          static_cast<int>(std::floor((p.y_m - geometry.origin_m.y_m) / geometry.resolution_m))};
+      if (slam_map.Contains(cell)) cell_indices_.push_back(slam_map.LinearIndex(cell));
+    }
+    std::sort(cell_indices_.begin(),
+              cell_indices_.end());  // the count is order-free: read in memory order
+  }
   Coverage result;
   result.truth_free_cells = static_cast<int64_t>(truth_free_in_map_m_.size());
-  const double slam_res = slam_map.resolution_m();
-  const Point2d slam_origin = slam_map.origin_m();
-  for (const Point2d& p : truth_free_in_map_m_) {
-    // WorldToCell written out.
-    const CellIndex cell{static_cast<int>(std::floor((p.x_m - slam_origin.x_m) / slam_res)),
-                         static_cast<int>(std::floor((p.y_m - slam_origin.y_m) / slam_res))};
-    if (slam_map.ValueOr(cell, OccupancyGrid::kUnknown) != OccupancyGrid::kUnknown) {
-      ++result.truth_free_known;
-    }
+  const std::vector<int8_t>& cells = slam_map.cells();
+  for (const std::size_t index : cell_indices_) {
+    result.truth_free_known += cells[index] != OccupancyGrid::kUnknown;
   }
   result.fraction = Ratio(result.truth_free_known, result.truth_free_cells);
   return result;

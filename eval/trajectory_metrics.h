@@ -103,10 +103,24 @@ Coverage ComputeCoverage(const OccupancyGrid& slam_map, const Pose2d& map_in_wor
 class CoverageEvaluator {
  public:
   CoverageEvaluator(const OccupancyGrid& truth, const Pose2d& map_in_world);
-  Coverage Evaluate(const OccupancyGrid& slam_map) const;
+  // Cheap for a map on the grid of the previous call (same size, resolution, origin).
+  Coverage Evaluate(const OccupancyGrid& slam_map);
 
  private:
+  struct MapGeometry {
+    int width_cells = 0;
+    int height_cells = 0;
+    double resolution_m = 0.0;
+    Point2d origin_m;
+    bool operator==(const MapGeometry& o) const {
+      return width_cells == o.width_cells && height_cells == o.height_cells &&
+             resolution_m == o.resolution_m && origin_m.x_m == o.origin_m.x_m &&
+             origin_m.y_m == o.origin_m.y_m;
+    }
+  };
   std::vector<Point2d> truth_free_in_map_m_;  // centres of the truly free cells, in "map"
+  MapGeometry geometry_;                      // of the map cell_indices_ was placed on
+  std::vector<std::size_t> cell_indices_;     // truly free cells on that map, in memory order
 };
 
 // Compares `slam_map` (in "map") with `truth` (in "world"), the SLAM map

@@ -217,5 +217,29 @@ TEST(ComputeMapAgreement, CellsOffTheTruthGridAreSolid) {
   EXPECT_DOUBLE_EQ(ComputeMapAgreement(OccupancyGrid(), Pose2d{}, truth).coverage, 0.0);
 }
 
+// One evaluator over a growing map, as a run uses it: each count is the map's own.
+TEST(CoverageEvaluator, FollowsTheMapAsItChangesAndGrows) {
+  const OccupancyGrid truth = TruthRoom();  // 32 x 22 free cells from (0.2, 0.2)
+  CoverageEvaluator evaluator(truth, Pose2d{});
+  // The left half of the room known.
+  OccupancyGrid slam(20, 30, 0.05, {0.0, 0.0}, OccupancyGrid::kUnknown);
+  for (int row = 4; row < 26; ++row) {
+    for (int col = 4; col < 20; ++col) slam.at({col, row}) = OccupancyGrid::kFree;
+  }
+  EXPECT_EQ(evaluator.Evaluate(slam).truth_free_known, 16 * 22);
+  // Same grid, one more column known and one cell unknown again.
+  for (int row = 4; row < 26; ++row) slam.at({19, row}) = OccupancyGrid::kFree;
+  slam.at({10, 10}) = OccupancyGrid::kUnknown;
+  EXPECT_EQ(evaluator.Evaluate(slam).truth_free_known, 16 * 22 - 1);
+  // Grown by 20 columns to the right and 10 to the left: the whole room known.
+  OccupancyGrid grown(50, 30, 0.05, {-0.5, 0.0}, OccupancyGrid::kOccupied);
+  const Coverage all = evaluator.Evaluate(grown);
+  EXPECT_EQ(all.truth_free_known, 32 * 22);
+  EXPECT_DOUBLE_EQ(all.fraction, 1.0);
+  // Back on a grid whose cells lie elsewhere: the room's lower rows are off it.
+  OccupancyGrid shifted(40, 10, 0.05, {0.0, 1.0}, OccupancyGrid::kFree);
+  EXPECT_EQ(evaluator.Evaluate(shifted).truth_free_known, 32 * 6);
+}
+
 }  // namespace
 }  // namespace aslam
