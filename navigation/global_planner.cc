@@ -258,11 +258,13 @@ void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
 }
 
 std::optional<GlobalPath> GlobalPlanner::Plan(const Costmap& costmap, Point2d start_m,
-                                              Point2d goal_m) const {
+                                              Point2d goal_m, ShortestPathTree* scratch) const {
   const CellIndex start = costmap.WorldToCell(start_m);
   const CellIndex goal = costmap.WorldToCell(goal_m);
   if (!costmap.Contains(start) || !costmap.Traversable(goal)) return std::nullopt;
-  return Search(costmap, start, {goal}).PathTo(goal);
+  if (scratch == nullptr) return Search(costmap, start, {goal}).PathTo(goal);
+  Search(costmap, start, {goal}, scratch);
+  return scratch->PathTo(goal);
 }
 
 }  // namespace aslam

@@ -95,8 +95,10 @@ class GlobalPlanner {
   void Search(const Costmap& costmap, CellIndex start, const std::vector<CellIndex>& targets,
               ShortestPathTree* tree) const;
   // Path from `start` to `goal` in metres ("map"); nullopt when the goal is
-  // not traversable or not reachable.
-  std::optional<GlobalPath> Plan(const Costmap& costmap, Point2d start_m, Point2d goal_m) const;
+  // not traversable or not reachable. Searches in `scratch` when given (its
+  // memory reused, as Search's).
+  std::optional<GlobalPath> Plan(const Costmap& costmap, Point2d start_m, Point2d goal_m,
+                                 ShortestPathTree* scratch = nullptr) const;
 
   const GlobalPlannerOptions& options() const { return options_; }
 

@@ -201,7 +201,7 @@ bool Navigator::Replan(int64_t utime) {
       return false;
     }
   }
-  std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, target);
+  std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, target, &plan_tree_);
   if (!path || path->points_m.empty()) {
     Stop(NavState::kUnreachable,
          Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,

@@ -125,6 +125,7 @@ class Navigator {
 
   NavOptions options_;
   GlobalPlanner planner_;
+  ShortestPathTree plan_tree_;  // the last plan's search, its memory reused by the next
   DwaPlanner dwa_;
 
   OccupancyGrid map_;
