@@ -1,7 +1,9 @@
 #include "slam/occupancy_mapper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -230,6 +232,59 @@ TEST(OccupancyMapperTest, RerenderRegionEqualsAFreshMapWithTheScanMoved) {
   int actual_known = 0;
   for (const int8_t value : actual.cells()) actual_known += value != OccupancyGrid::kUnknown;
   EXPECT_EQ(actual_known, known);
+}
+
+// Re-rendering any region from the unmoved scans changes nothing: every cell a
+// beam crosses inside small boxes, at every slope and direction, is walked again.
+TEST(OccupancyMapperTest, RerenderingSmallRegionsFromUnmovedScansKeepsTheMap) {
+  OccupancyMapperOptions options;
+  options.free_threshold = 0.01;  // every log-odds value renders apart
+  options.occupied_threshold = 0.99;
+  options.no_return_clear_m = 1.5;  // no-return beams end in a miss
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  LidarScan scan = ForwardScan({});
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = 2.0 * M_PI / 361;
+  std::vector<LidarScan> scans;
+  std::vector<Pose2d> poses;
+  for (int s = 0; s < 6; ++s) {
+    for (int i = 0; i < 361; ++i) {
+      scan.range_m.push_back(i % 23 == 0 ? 0.0f : static_cast<float>(0.5 + 3.0 * unit(rng)));
+    }
+    scans.push_back(scan);
+    scan.range_m.clear();
+    poses.push_back({2.0 * unit(rng), 2.0 * unit(rng), 6.0 * unit(rng)});
+  }
+  OccupancyMapper mapper(options);
+  std::vector<CellBox> footprints;
+  for (std::size_t s = 0; s < scans.size(); ++s) {
+    footprints.push_back(*mapper.InsertScan(poses[s], scans[s]));
+  }
+  const OccupancyGrid before = mapper.Render();
+  const CellBox all = footprints[0].Union(footprints[1]);
+  std::uniform_int_distribution<int> col(all.min_col - 5, all.max_col + 5);
+  std::uniform_int_distribution<int> row(all.min_row - 5, all.max_row + 5);
+  std::uniform_int_distribution<int> side(0, 12);
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<CellBox> region;
+    for (int b = 0; b < 1 + trial % 4; ++b) {
+      const int c = col(rng), r = row(rng);
+      region.push_back({c, r, c + side(rng), r + side(rng)});
+    }
+    std::vector<OccupancyMapper::PosedScan> posed;
+    for (std::size_t s = 0; s < scans.size(); ++s) {
+      if (std::any_of(region.begin(), region.end(),
+                      [&](const CellBox& box) { return box.Intersects(footprints[s]); })) {
+        posed.push_back({poses[s], &scans[s], footprints[s]});
+      }
+    }
+    mapper.RerenderRegion(region, posed);
+    const OccupancyGrid after = mapper.Render();
+    ASSERT_EQ(after.width_cells(), before.width_cells());
+    ASSERT_EQ(after.height_cells(), before.height_cells());
+    ASSERT_EQ(after.cells(), before.cells()) << "trial " << trial;
+  }
 }
 
 TEST(OccupancyMapperTest, BadOptionsThrowNamingTheOption) {
