@@ -5,6 +5,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include <opencv2/core/utility.hpp>
+
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
 #include "aslam/frontier_list_t.hpp"
@@ -67,6 +69,9 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   // Every option is loaded and validated before anything runs (docs/architecture.md §7); the
   // robot once, for the simulator and the navigator, whose planning frontier and
   // utility share.
+  // One thread: every node's CPU is charged on this thread (OpenCV's workers
+  // would go uncounted), and bench jobs already fill the cores.
+  cv::setNumThreads(0);
   const std::string& file = options.config_file;
   const RobotOptions robot = LoadRobotOptionsFromFile(file);
   SimulatorOptions sim_options =
