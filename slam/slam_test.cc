@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -275,6 +276,52 @@ TEST(Slam, MapIsReRenderedOnlyWhenClosuresMoveBeamsBeyondTheTolerance) {
   EXPECT_LE(drift_m, 0.10);
   std::printf("test-world lap: %d optimizations, %d re-renders at 0.10 m (worst lag %.3f m)\n",
               lazy_optimized, lazy_invalidated, drift_m);
+}
+
+// However many partial re-renders a lap needed, the map ends as a fresh
+// insertion of every keyframe at its final pose (tolerance 0: every move counts).
+TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
+  SlamOptions options;
+  options.loop_closure.map_rerender_tolerance_m = 0.0;
+  Slam slam(options);
+  SimulatedRun run;
+  const ScriptedDrive drive = LoadScriptedDrive(kRoot + "/config/drives/test_loop.yaml");
+  Simulator& sim = run.sim();
+  std::vector<LidarScan> keyframe_scans;
+  int re_renders = 0;
+  while (const auto command = drive.CommandAt(sim.utime())) {
+    sim.SetCommand(*command);
+    const SimStepOutput out = sim.Step();
+    if (out.odometry) slam.AddOdometry(*out.odometry);
+    if (!out.scan) continue;
+    const ScanUpdate update = slam.AddScan(*out.scan);
+    if (update.keyframe_added) keyframe_scans.push_back(*out.scan);
+    if (update.map_invalidated) {
+      ++re_renders;
+      slam.RenderMap();  // re-render now, as the node does before publishing
+    }
+  }
+  ASSERT_GE(re_renders, 1);
+  const OccupancyGrid actual = slam.RenderMap();
+  ASSERT_EQ(keyframe_scans.size(), slam.graph().nodes.size());
+  OccupancyMapper fresh(options.mapper);
+  for (std::size_t i = 0; i < keyframe_scans.size(); ++i) {
+    fresh.InsertScan(slam.graph().nodes[i].pose, keyframe_scans[i]);
+  }
+  const OccupancyGrid expected = fresh.Render();
+  int known = 0, differing = 0;
+  for (int row = 0; row < expected.height_cells(); ++row) {
+    for (int col = 0; col < expected.width_cells(); ++col) {
+      const int8_t want = expected.at({col, row});
+      known += want != OccupancyGrid::kUnknown;
+      differing += actual.ValueOr(actual.WorldToCell(expected.CellCenter({col, row})), -2) != want;
+    }
+  }
+  EXPECT_GT(known, 10000);
+  EXPECT_EQ(differing, 0);
+  int actual_known = 0;
+  for (const int8_t value : actual.cells()) actual_known += value != OccupancyGrid::kUnknown;
+  EXPECT_EQ(actual_known, known);
 }
 
 }  // namespace
