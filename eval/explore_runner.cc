@@ -66,12 +66,12 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
     throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
   if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
 
-  // Every option is loaded and validated before anything runs (docs/architecture.md §7); the
-  // robot once, for the simulator and the navigator, whose planning frontier and
-  // utility share.
   // One thread: every node's CPU is charged on this thread (OpenCV's workers
   // would go uncounted), and bench jobs already fill the cores.
   cv::setNumThreads(0);
+  // Every option is loaded and validated before anything runs (docs/architecture.md §7); the
+  // robot once, for the simulator and the navigator, whose planning frontier and
+  // utility share.
   const std::string& file = options.config_file;
   const RobotOptions robot = LoadRobotOptionsFromFile(file);
   SimulatorOptions sim_options =

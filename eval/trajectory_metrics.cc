@@ -142,8 +142,8 @@ Coverage CoverageEvaluator::Evaluate(const OccupancyGrid& slam_map) {
           static_cast<int>(std::floor((p.y_m - geometry.origin_m.y_m) / geometry.resolution_m))};
       if (slam_map.Contains(cell)) cell_indices_.push_back(slam_map.LinearIndex(cell));
     }
-    std::sort(cell_indices_.begin(),
-              cell_indices_.end());  // the count is order-free: read in memory order
+    // The count does not depend on the order: read the map in memory order.
+    std::sort(cell_indices_.begin(), cell_indices_.end());
   }
   Coverage result;
   result.truth_free_cells = static_cast<int64_t>(truth_free_in_map_m_.size());
