@@ -37,9 +37,9 @@ struct LoopClosureOptions {
   // After optimization, a loop-closure edge whose chi-square exceeds this tears the
   // graph: it is removed and the graph re-optimized.
   double max_chi_square = 25.0;
-  // After optimization the map is re-rendered from every keyframe only when some
-  // keyframe's beams moved farther than this from where the map has them (bound:
-  // translation + beam reach x rotation); 0 re-renders after every optimization.
+  // After optimization, keyframes whose beams moved farther than this from where
+  // the map has them (bound: translation + beam reach x rotation) are re-rendered,
+  // only where they cover; 0 re-renders every keyframe that moved at all.
   double map_rerender_tolerance_m = 0.01;
 };
 
