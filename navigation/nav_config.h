@@ -45,7 +45,7 @@ struct NavigatorOptions {
   double align_speed_radps = 1.5;
   double pose_timeout_s = 0.5;        // an older pose (or scan) stops the robot
   double progress_timeout_s = 10.0;   // no progress this long starts a recovery
-  double progress_margin_m = 0.25;    // progress = distance remaining reduced by this much
+  double progress_margin_m = 0.25;    // progress = this much net advance along the paths
   int dwa_failures_for_recovery = 3;  // consecutive cycles without an admissible trajectory
   int max_recoveries = 3;             // per goal; one more need for recovery fails the goal
   RecoveryOptions recovery;

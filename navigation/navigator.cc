@@ -145,7 +145,8 @@ void Navigator::Stop(NavState state, const std::string& detail) {
 }
 
 void Navigator::ResetProgress(int64_t utime) {
-  best_remaining_m_ = kInf;
+  advance_m_ = 0.0;
+  last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();
   last_progress_utime_ = utime;
 }
 
@@ -217,9 +218,7 @@ bool Navigator::Replan(int64_t utime) {
   path_index_ = 0;
   has_path_ = true;
   ++path_revision_;
-  // A detour makes the remaining distance jump up; progress is judged from there.
-  const double remaining = DistanceRemainingM();
-  if (best_remaining_m_ != kInf && remaining > best_remaining_m_) best_remaining_m_ = remaining;
+  last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();  // the new path starts the count
   return true;
 }
 
@@ -443,8 +442,10 @@ NavOutput Navigator::Step(int64_t utime) {
 
   if (status_.recovery == RecoveryPhase::kNone) {
     const double remaining_m = status_.distance_remaining_m;
-    if (remaining_m < best_remaining_m_ - n.progress_margin_m || best_remaining_m_ == kInf) {
-      best_remaining_m_ = remaining_m;
+    if (!std::isnan(last_remaining_m_)) advance_m_ += last_remaining_m_ - remaining_m;
+    last_remaining_m_ = remaining_m;
+    if (advance_m_ >= n.progress_margin_m) {
+      advance_m_ = 0.0;
       last_progress_utime_ = utime;
     }
     if (utime - last_progress_utime_ > Micros(n.progress_timeout_s)) {

@@ -149,8 +149,11 @@ class Navigator {
   int64_t replans_ = 0;
   int64_t path_revision_ = 0;
 
-  // Progress: the best distance remaining and when it last improved by the margin.
-  double best_remaining_m_ = 0.0;
+  // Progress: how far the robot advanced along its paths since it last made progress, net
+  // of going back. A replan's jump in the distance remaining (a detour, or plans flipping
+  // between two routes) is not the robot moving, so it never counts.
+  double advance_m_ = 0.0;
+  double last_remaining_m_ = 0.0;  // on the current path at the previous step; NaN after a plan
   int64_t last_progress_utime_ = 0;
   int dwa_failures_ = 0;
   bool aligning_ = false;  // turning in place toward the path before the DWA drives

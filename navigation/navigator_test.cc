@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -222,6 +223,36 @@ TEST(Navigator, NoProgressRotatesBacksOffThenFails) {
   std::size_t first_rotate = 0;
   while (outputs[first_rotate].status.recovery != RecoveryPhase::kRotate) ++first_rotate;
   EXPECT_NEAR(outputs[first_rotate].status.utime * 1e-6, 2.1, 0.15);
+}
+
+// Plans flipping between a short and a long route (here the south gap of the divider
+// opening and closing every second) are not progress: a base that does not move
+// starts its recovery after progress_timeout_s all the same.
+TEST(Navigator, PlansFlippingBetweenRoutesAreNotProgress) {
+  NavOptions options;
+  options.navigator.progress_timeout_s = 2.0;
+  Navigator navigator{options};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/true));
+  const Pose2d stuck{2.0, 2.5, M_PI};  // never moves
+  navigator.SetGoal(1, {8.0, 2.5}, 0);
+  std::vector<double> path_lengths_m;
+  int64_t recovery_utime = -1;
+  for (int64_t utime = kCycleUs; utime < 8'000'000 && recovery_utime < 0; utime += kCycleUs) {
+    if (utime % 1'000'000 == 0) {
+      navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/(utime / 1'000'000) % 2 == 0));
+    }
+    navigator.SetPose(PoseAt(utime, stuck));
+    const NavOutput out = navigator.Step(utime);
+    ASSERT_EQ(out.status.state, NavState::kActive);
+    if (out.replanned) path_lengths_m.push_back(navigator.path_length_m());
+    if (out.status.recovery != RecoveryPhase::kNone) recovery_utime = utime;
+  }
+  // The routes did flip: about 6 m through the south gap, about 14 m round by the north.
+  ASSERT_GE(path_lengths_m.size(), 3u);
+  EXPECT_LT(*std::min_element(path_lengths_m.begin(), path_lengths_m.end()), 8.0);
+  EXPECT_GT(*std::max_element(path_lengths_m.begin(), path_lengths_m.end()), 11.0);
+  ASSERT_GT(recovery_utime, 0) << "flipping plans kept resetting the progress check";
+  EXPECT_NEAR(recovery_utime * 1e-6, 2.1, 0.15);
 }
 
 TEST(Navigator, BackOffStopsWhenTheRearIsBlocked) {
