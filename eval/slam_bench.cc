@@ -167,11 +167,13 @@ void PrintCounters(const Slam& slam, int64_t odometry_dropped) {
   const SlamCounters& c = slam.counters();
   std::printf(
       "loop closures: accepted %lld, rejected %lld (of which removed after optimization "
-      "%lld); optimizations %lld; sequential matches below response %lld\n",
+      "%lld); optimizations %lld; sequential matches below response %lld; keyframes explained "
+      "by the map (graph only) %lld\n",
       static_cast<long long>(c.loop_closures_accepted),
       static_cast<long long>(c.loop_closures_rejected),
       static_cast<long long>(c.loop_closures_removed), static_cast<long long>(c.optimizations),
-      static_cast<long long>(c.matches_low_response));
+      static_cast<long long>(c.matches_low_response),
+      static_cast<long long>(c.keyframes_not_mapped));
   std::printf("dropped inputs: %lld (odometry rejected %lld)",
               static_cast<long long>(c.dropped_total()), static_cast<long long>(odometry_dropped));
   for (int r = 0; r < static_cast<int>(DropReason::kCount); ++r) {

@@ -88,8 +88,10 @@ void OccupancyMapper::GrowToCover(int min_col, int min_row, int max_col, int max
   origin_row_ = new_min_row;
 }
 
-std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_map,
-                                                        const LidarScan& scan) {
+std::optional<CellBox> OccupancyMapper::BeamEndCells(const Pose2d& base_in_map,
+                                                     const LidarScan& scan,
+                                                     std::vector<BeamEnd>* ends, int* sensor_col,
+                                                     int* sensor_row) const {
   const Pose2d sensor = base_in_map.Compose(scan.sensor_pose);
   if (!std::isfinite(sensor.x_m) || !std::isfinite(sensor.y_m) || !std::isfinite(sensor.yaw_rad) ||
       std::abs(sensor.x_m) > 1e6 || std::abs(sensor.y_m) > 1e6) {
@@ -98,10 +100,10 @@ std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_ma
     std::abort();  // the front end hands us optimized poses: garbage here is a bug
   }
   const double inv_res = 1.0 / options_.resolution_m;
-  sensor_col_ = static_cast<int>(std::floor(sensor.x_m * inv_res));
-  sensor_row_ = static_cast<int>(std::floor(sensor.y_m * inv_res));
-  beam_ends_.clear();
-  CellBox box{sensor_col_, sensor_row_, sensor_col_, sensor_row_};
+  *sensor_col = static_cast<int>(std::floor(sensor.x_m * inv_res));
+  *sensor_row = static_cast<int>(std::floor(sensor.y_m * inv_res));
+  ends->clear();
+  CellBox box{*sensor_col, *sensor_row, *sensor_col, *sensor_row};
   for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
     const float range = scan.range_m[i];
     double length_m;
@@ -121,14 +123,19 @@ std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_ma
         static_cast<int>(std::floor((sensor.x_m + length_m * std::cos(angle)) * inv_res));
     const int row =
         static_cast<int>(std::floor((sensor.y_m + length_m * std::sin(angle)) * inv_res));
-    beam_ends_.push_back({col, row, hit});
+    ends->push_back({col, row, hit});
     box.min_col = std::min(box.min_col, col);
     box.max_col = std::max(box.max_col, col);
     box.min_row = std::min(box.min_row, row);
     box.max_row = std::max(box.max_row, row);
   }
-  if (beam_ends_.empty()) return std::nullopt;
+  if (ends->empty()) return std::nullopt;
   return box;
+}
+
+std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_map,
+                                                        const LidarScan& scan) {
+  return BeamEndCells(base_in_map, scan, &beam_ends_, &sensor_col_, &sensor_row_);
 }
 
 std::optional<CellBox> OccupancyMapper::ScanFootprint(const Pose2d& base_in_map,
@@ -246,6 +253,32 @@ std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const 
     if (!end.hit) update(index, miss_lo);
   }
   return footprint;
+}
+
+int OccupancyMapper::CountRevealedCells(const Pose2d& base_in_map, const LidarScan& scan) const {
+  std::vector<BeamEnd> ends;
+  int sensor_col = 0, sensor_row = 0;
+  if (!BeamEndCells(base_in_map, scan, &ends, &sensor_col, &sensor_row)) return 0;
+  const auto never_observed = [&](int col, int row) {
+    const int c = col - origin_col_, r = row - origin_row_;
+    return c < 0 || r < 0 || c >= width_cells_ || r >= height_cells_ ||
+           std::isnan(cells_[static_cast<std::size_t>(r) * width_cells_ + c].log_odds);
+  };
+  int revealed = 0;
+  for (const BeamEnd& end : ends) {
+    // Every cell from the sensor's to the end cell (Bresenham).
+    const int dx = std::abs(end.col - sensor_col), dy = std::abs(end.row - sensor_row);
+    const int step_col = end.col > sensor_col ? 1 : -1, step_row = end.row > sensor_row ? 1 : -1;
+    int col = sensor_col, row = sensor_row, err = dx - dy;
+    while (true) {
+      revealed += never_observed(col, row);
+      if (col == end.col && row == end.row) break;
+      const int twice = 2 * err;
+      if (twice > -dy) err -= dy, col += step_col;
+      if (twice < dx) err += dx, row += step_row;
+    }
+  }
+  return revealed;
 }
 
 OccupancyGrid OccupancyMapper::Render() const {

@@ -79,6 +79,10 @@ class OccupancyMapper {
   // it (log-odds are clamped in insertion order, so order matters).
   void RerenderRegion(const std::vector<CellBox>& region, const std::vector<PosedScan>& scans);
 
+  // How many never-observed cells inserting `scan` at `base_in_map` would observe (a
+  // cell crossed by several beams counts once per beam). Changes nothing.
+  int CountRevealedCells(const Pose2d& base_in_map, const LidarScan& scan) const;
+
   // -1 never observed, else round(100 * p_occupied). Empty grid when empty().
   OccupancyGrid Render() const;
   // True until a scan observes a cell (again true after Clear()).
@@ -95,8 +99,12 @@ class OccupancyMapper {
 
   // Grows the grid so the global cells [min, max] fit, with growth_margin_m to spare.
   void GrowToCover(int min_col, int min_row, int max_col, int max_row);
-  // Pass 1 of an insertion: beam end cells (global indices) into beam_ends_, and their
-  // box with the sensor's cell; none when no beam is usable. Aborts on a non-finite pose.
+  // Beam end cells (global indices) into *ends and the sensor's cell, and their box;
+  // none when no beam is usable. Aborts on a non-finite pose.
+  std::optional<CellBox> BeamEndCells(const Pose2d& base_in_map, const LidarScan& scan,
+                                      std::vector<BeamEnd>* ends, int* sensor_col,
+                                      int* sensor_row) const;
+  // Pass 1 of an insertion: BeamEndCells into beam_ends_, sensor_col_ and sensor_row_.
   std::optional<CellBox> ComputeBeamEnds(const Pose2d& base_in_map, const LidarScan& scan);
   // The insertion; with kInRegionOnly, cells outside region_mask_ are left alone.
   template <bool kInRegionOnly>

@@ -287,6 +287,32 @@ TEST(OccupancyMapperTest, RerenderingSmallRegionsFromUnmovedScansKeepsTheMap) {
   }
 }
 
+// A fan of beams ending on a wall 2 m ahead: into an empty map it reveals every cell it
+// crosses; inserted, it reveals nothing more from where it was taken, and from 1 m farther
+// back only the cells of that first metre (and the fan's wider sweep of them).
+TEST(OccupancyMapperTest, CountRevealedCellsCountsNeverObservedCellsTheBeamsCross) {
+  OccupancyMapper mapper(OccupancyMapperOptions{});
+  LidarScan fan = ForwardScan({});
+  fan.angle_min_rad = -0.4;
+  fan.angle_increment_rad = 0.01;
+  for (int i = 0; i <= 80; ++i) {
+    fan.range_m.push_back(static_cast<float>(2.0 / std::cos(fan.BeamAngle(i))));
+  }
+  const Pose2d base{kX, kY, 0.0};
+  const int into_empty = mapper.CountRevealedCells(base, fan);
+  EXPECT_GE(into_empty, 81 * 40);  // each beam crosses at least 2 m / 5 cm cells
+  EXPECT_LE(into_empty, 81 * 60);
+  EXPECT_TRUE(mapper.empty());  // counting changed nothing
+  mapper.InsertScan(base, fan);
+  EXPECT_EQ(mapper.CountRevealedCells(base, fan), 0);
+  const Pose2d back{kX - 1.0, kY, 0.0};
+  const int from_back = mapper.CountRevealedCells(back, fan);
+  EXPECT_GE(from_back, 81 * 20);  // the metre behind the first pose, at least
+  EXPECT_LT(from_back, into_empty);
+  // Off the grid counts as never observed.
+  EXPECT_NEAR(mapper.CountRevealedCells({kX + 50.0, kY, 0.0}, fan), into_empty, 0.05 * into_empty);
+}
+
 TEST(OccupancyMapperTest, BadOptionsThrowNamingTheOption) {
   OccupancyMapperOptions options;
   options.resolution_m = 0.0;

@@ -215,6 +215,20 @@ void BM_MapperInsertScan(benchmark::State& state) {
 }
 BENCHMARK(BM_MapperInsertScan)->Unit(benchmark::kMicrosecond);
 
+// map_thinning's test of every keyframe: the unknown inserting it would reveal, on a mapped floor.
+void BM_MapperCountRevealedCells(benchmark::State& state) {
+  const Keyframes& k = OfficeKeyframes();
+  OccupancyMapper mapper({});
+  for (std::size_t i = 0; i < k.poses.size(); ++i) mapper.InsertScan(k.poses[i], k.scans[i]);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        mapper.CountRevealedCells(k.poses[i % k.poses.size()], k.scans[i % k.poses.size()]));
+    ++i;
+  }
+}
+BENCHMARK(BM_MapperCountRevealedCells)->Unit(benchmark::kMicrosecond);
+
 // After a loop closure the front end clears and re-inserts every keyframe.
 void BM_MapperRerender1000Keyframes(benchmark::State& state) {
   const Keyframes& k = OfficeKeyframes();

@@ -67,6 +67,12 @@ void ValidateSlamOptions(const SlamOptions& o) {
   Require(o.keyframe.travel_m > 0, "keyframe.travel_m", o.keyframe.travel_m, "must be > 0");
   Require(o.keyframe.rotation_rad > 0, "keyframe.rotation_rad", o.keyframe.rotation_rad,
           "must be > 0");
+  const MapThinningOptions& t = o.map_thinning;
+  Require(t.max_revealed_area_m2 >= 0, "map_thinning.max_revealed_area_m2", t.max_revealed_area_m2,
+          "must be >= 0");
+  Require(t.max_travel_m >= 0, "map_thinning.max_travel_m", t.max_travel_m, "must be >= 0");
+  Require(t.max_rotation_rad >= 0, "map_thinning.max_rotation_rad", t.max_rotation_rad,
+          "must be >= 0");
   const FrontEndOptions& f = o.front_end;
   Require(f.point_spacing_m >= 0, "front_end.point_spacing_m", f.point_spacing_m, "must be >= 0");
   Require(f.local_map_keyframes >= 1, "front_end.local_map_keyframes", f.local_map_keyframes,
@@ -305,13 +311,33 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
   keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose, std::nullopt,
                                 BeamReachM(scan, options_.mapper.no_return_clear_m)});
-  keyframes_.back().footprint = mapper_.InsertScan(pose, scan);
-  ++map_revision_;
+  Keyframe& keyframe = keyframes_.back();
+  if (MapExplains(keyframe, pose)) {
+    ++counters_.keyframes_not_mapped;
+  } else {
+    keyframe.footprint = mapper_.InsertScan(pose, scan);
+    keyframe.in_map = true;
+    last_mapped_odom_pose_ = odom_pose;
+    ++map_revision_;
+    update->keyframe_mapped = true;
+  }
   ++graph_revision_;
   update->keyframe_added = true;
   update->graph_changed = true;
 
   TryLoopClosure(id, update);
+}
+
+bool Slam::MapExplains(const Keyframe& keyframe, const Pose2d& pose) const {
+  const MapThinningOptions& t = options_.map_thinning;
+  if (!t.enabled || !last_mapped_odom_pose_) return false;
+  const Pose2d since_mapped = last_mapped_odom_pose_->Between(keyframe.odom_pose);
+  if (std::hypot(since_mapped.x_m, since_mapped.y_m) >= t.max_travel_m ||
+      std::abs(since_mapped.yaw_rad) >= t.max_rotation_rad) {
+    return false;
+  }
+  const double cell_area_m2 = options_.mapper.resolution_m * options_.mapper.resolution_m;
+  return mapper_.CountRevealedCells(pose, keyframe.scan) * cell_area_m2 <= t.max_revealed_area_m2;
 }
 
 void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
@@ -369,6 +395,7 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
 }
 
 double Slam::DriftM(std::size_t keyframe) const {
+  if (!keyframes_[keyframe].in_map) return 0.0;  // nothing of it to move
   const Pose2d& mapped = keyframes_[keyframe].mapped_pose;
   const Pose2d& now = graph_.nodes[keyframe].pose;
   // A beam end at distance q from the base moves by at most |dt| + q |dyaw|.

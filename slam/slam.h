@@ -49,6 +49,7 @@ struct SlamCounters {
   int64_t invalid_beams = 0;
   int64_t odometry_rebases = 0;      // a jump followed by a consistent stream: odometry was reset
   int64_t matches_low_response = 0;  // sequential edges that fell back to odometry
+  int64_t keyframes_not_mapped = 0;  // explained by the map: graph only (map_thinning)
   int64_t loop_closures_accepted = 0;
   int64_t loop_closures_rejected = 0;  // weak match or torn graph
   int64_t loop_closures_removed =
@@ -63,6 +64,7 @@ struct ScanUpdate {
   bool accepted = false;  // false: dropped (see counters)
   StampedPose pose;       // the base in "map" at the scan's time
   bool keyframe_added = false;
+  bool keyframe_mapped = false;  // ...and inserted into the map (see map_thinning)
   int loop_closures_accepted = 0;
   int loop_closures_rejected = 0;
   bool graph_changed = false;  // nodes, edges or poses changed
@@ -110,11 +112,14 @@ class Slam {
     Pose2d mapped_pose;                // where the map has this scan (the pose when last inserted)
     std::optional<CellBox> footprint;  // the cells it changed there
     double beam_reach_m = 0.0;
+    bool in_map = false;  // false: explained by the map when added (map_thinning)
   };
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
   void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                    std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
+  // True when map_thinning keeps `keyframe`, at `pose`, out of the map.
+  bool MapExplains(const Keyframe& keyframe, const Pose2d& pose) const;
   void TryLoopClosure(int node_id, ScanUpdate* update);
   // Re-inserts, at their graph poses, the keyframes whose beams drifted beyond the
   // tolerance: only the cells they cover at the old and the new pose are re-rendered.
@@ -140,6 +145,7 @@ class Slam {
   int64_t map_revision_ = 0;
   int last_closure_attempt_node_ = -1000000;
   bool map_stale_ = false;  // keyframes drifted beyond the tolerance since the last render
+  std::optional<Pose2d> last_mapped_odom_pose_;
 
   // Odometry, with a correction that hides resets ("rebases") of the raw stream.
   std::deque<Odometry> odometry_;  // corrected, oldest first

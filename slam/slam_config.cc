@@ -18,6 +18,13 @@ void LoadKeyframe(const ConfigReader& c, KeyframeOptions* o) {
   c.ReadInRange("rotation_rad", &o->rotation_rad, 0.01, 2.0 * M_PI);
 }
 
+void LoadMapThinning(const ConfigReader& c, MapThinningOptions* o) {
+  c.Read("enabled", &o->enabled);
+  c.ReadInRange("max_revealed_area_m2", &o->max_revealed_area_m2, 0.0, 1e6);
+  c.ReadInRange("max_travel_m", &o->max_travel_m, 0.0, 100.0);
+  c.ReadInRange("max_rotation_rad", &o->max_rotation_rad, 0.0, 2.0 * M_PI);
+}
+
 void LoadFrontEnd(const ConfigReader& c, FrontEndOptions* o) {
   c.ReadInRange("point_spacing_m", &o->point_spacing_m, 0.0, 1.0);
   c.ReadInRange("local_map_keyframes", &o->local_map_keyframes, 1, 1000);
@@ -100,6 +107,7 @@ SlamConfig LoadSlamConfig(const ConfigReader& slam) {
   SlamConfig config;
   SlamOptions& o = config.slam;
   LoadKeyframe(slam.Section("keyframe"), &o.keyframe);
+  LoadMapThinning(slam.Section("map_thinning"), &o.map_thinning);
   const ConfigReader front_end = slam.Section("front_end");
   LoadFrontEnd(front_end, &o.front_end);
   const ConfigReader loop_closure = slam.Section("loop_closure");

@@ -23,6 +23,10 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   const SlamOptions& y = b.slam;
   EXPECT_EQ(x.keyframe.travel_m, y.keyframe.travel_m);
   EXPECT_EQ(x.keyframe.rotation_rad, y.keyframe.rotation_rad);
+  EXPECT_EQ(x.map_thinning.enabled, y.map_thinning.enabled);
+  EXPECT_EQ(x.map_thinning.max_revealed_area_m2, y.map_thinning.max_revealed_area_m2);
+  EXPECT_EQ(x.map_thinning.max_travel_m, y.map_thinning.max_travel_m);
+  EXPECT_EQ(x.map_thinning.max_rotation_rad, y.map_thinning.max_rotation_rad);
 
   EXPECT_EQ(x.front_end.point_spacing_m, y.front_end.point_spacing_m);
   EXPECT_EQ(x.front_end.local_map_keyframes, y.front_end.local_map_keyframes);
@@ -84,6 +88,10 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
 struct KeyframeFields {
   double d[2];
 };
+struct MapThinningFields {
+  bool b0;
+  double d[3];
+};
 struct FrontEndFields {
   double d0;
   int i0;
@@ -117,6 +125,7 @@ struct InputFields {
   double d[3];
 };
 static_assert(sizeof(KeyframeOptions) == sizeof(KeyframeFields));
+static_assert(sizeof(MapThinningOptions) == sizeof(MapThinningFields));
 static_assert(sizeof(FrontEndOptions) == sizeof(FrontEndFields));
 static_assert(sizeof(LoopClosureOptions) == sizeof(LoopClosureFields));
 static_assert(sizeof(ScanMatcherOptions) == sizeof(ScanMatcherFields));
@@ -151,6 +160,11 @@ TEST(SlamConfig, EveryKeyReachesItsField) {
   const SlamConfig c = LoadSlamConfig(ConfigReader::FromString(R"(
 slam:
   keyframe: {travel_m: 0.4, rotation_rad: 0.3}
+  map_thinning:
+    enabled: false
+    max_revealed_area_m2: 0.08
+    max_travel_m: 2.0
+    max_rotation_rad: 0.9
   front_end:
     point_spacing_m: 0.04
     local_map_keyframes: 12
@@ -204,6 +218,10 @@ slam:
   const SlamOptions& o = c.slam;
   EXPECT_EQ(o.keyframe.travel_m, 0.4);
   EXPECT_EQ(o.keyframe.rotation_rad, 0.3);
+  EXPECT_FALSE(o.map_thinning.enabled);
+  EXPECT_EQ(o.map_thinning.max_revealed_area_m2, 0.08);
+  EXPECT_EQ(o.map_thinning.max_travel_m, 2.0);
+  EXPECT_EQ(o.map_thinning.max_rotation_rad, 0.9);
   EXPECT_EQ(o.front_end.point_spacing_m, 0.04);
   EXPECT_EQ(o.front_end.local_map_keyframes, 12);
   EXPECT_EQ(o.front_end.window.linear_m, 0.25);
@@ -268,6 +286,8 @@ TEST(SlamConfig, BadValuesNameFileKeyAndValue) {
               AllOf(HasSubstr("slam.mapper.log_odds_miss"), HasSubstr("'0.4'")));
   EXPECT_THAT(ErrorOf("slam:\n  loop_closure: {enabled: maybe}\n"),
               AllOf(HasSubstr("slam.loop_closure.enabled"), HasSubstr("'maybe'")));
+  EXPECT_THAT(ErrorOf("slam:\n  map_thinning: {max_revealed_area_m2: -1}\n"),
+              AllOf(HasSubstr("slam.map_thinning.max_revealed_area_m2"), HasSubstr("'-1'")));
   EXPECT_THAT(ErrorOf("slam:\n  node: {map_period_s: -1}\n"),
               AllOf(HasSubstr("slam.node.map_period_s"), HasSubstr("'-1'")));
 }

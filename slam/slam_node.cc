@@ -89,6 +89,7 @@ std::string SlamNode::CountersReport() const {
       << c.loop_closures_accepted << " accepted, " << c.loop_closures_rejected << " rejected ("
       << c.loop_closures_removed << " removed after optimization); " << c.optimizations
       << " optimizations; " << c.matches_low_response << " low-response matches; "
+      << c.keyframes_not_mapped << " keyframes explained by the map (graph only); "
       << c.odometry_rebases << " odometry rebases\n"
       << "published: " << poses_published_ << " poses, " << graphs_published_ << " graphs, "
       << maps_published_ << " maps\n"

@@ -14,6 +14,19 @@ struct KeyframeOptions {
   double rotation_rad = 0.35;  // ...or this much rotation
 };
 
+// A keyframe whose scan the map already explains (the robot passing rooms and corridors it
+// has mapped) joins the pose graph but not the map, so re-rendering after loop closures and
+// every SLAM_MAP consumer scale with what is new, not with how often the robot passes by.
+// The graph does not depend on the map: poses and closures are the same either way.
+struct MapThinningOptions {
+  bool enabled = true;
+  // Explained: inserting the scan would observe at most this much never-observed area.
+  double max_revealed_area_m2 = 0.01;
+  // Mapped anyway this far (odometry travel or rotation) from the last mapped keyframe.
+  double max_travel_m = 1.0;
+  double max_rotation_rad = 0.7;
+};
+
 struct FrontEndOptions {
   double point_spacing_m = 0.05;  // scan points thinned to this spacing before matching
   int local_map_keyframes = 10;   // recent keyframes the new one is matched against
@@ -52,6 +65,7 @@ struct InputOptions {
 
 struct SlamOptions {
   KeyframeOptions keyframe;
+  MapThinningOptions map_thinning;
   FrontEndOptions front_end;
   LoopClosureOptions loop_closure;
   ScanMatcherOptions scan_matcher;

@@ -3,6 +3,7 @@
 
 #include "slam/slam.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -81,6 +82,82 @@ TEST(Slam, KeyframesFollowTravelAndRotationThresholds) {
   }
   EXPECT_GE(slam.graph().nodes.size(), before + 6);  // ~3.5 rad turned, one per 0.35 rad
   EXPECT_EQ(slam.counters().dropped_total(), 0);
+}
+
+struct ThereAndBack {
+  PoseGraph graph;
+  std::vector<bool> mapped;  // per keyframe
+  OccupancyGrid map;
+  int64_t not_mapped = 0;  // SlamCounters::keyframes_not_mapped
+};
+
+// Drives 4 m down the test world's corridor, turns around and drives back.
+ThereAndBack DriveThereAndBack(const SlamOptions& options) {
+  Slam slam(options);
+  SimulatedRun run;
+  ThereAndBack result;
+  auto drive = [&](int scans, double linear_mps, double angular_radps) {
+    for (int i = 0; i < scans; ++i) {
+      auto [odometry, scan] = run.NextScan({0, linear_mps, angular_radps});
+      slam.AddOdometry(odometry);
+      const ScanUpdate update = slam.AddScan(scan);
+      if (update.keyframe_added) result.mapped.push_back(update.keyframe_mapped);
+    }
+  };
+  drive(100, 0.4, 0.0);
+  drive(32, 0.0, 1.0);  // about pi
+  drive(100, 0.4, 0.0);
+  result.graph = slam.graph();
+  result.map = slam.RenderMap();
+  result.not_mapped = slam.counters().keyframes_not_mapped;
+  return result;
+}
+
+// On ground it has mapped, keyframes the map explains stay out of it, no more than
+// max_travel_m apart; the graph is the same keyframe for keyframe, the map nearly so.
+TEST(Slam, MapThinningKeepsExplainedKeyframesInTheGraphOnly) {
+  SlamOptions options;
+  options.loop_closure.enabled = false;
+  options.map_thinning.enabled = false;
+  const ThereAndBack plain = DriveThereAndBack(options);
+  EXPECT_EQ(plain.not_mapped, 0);
+  EXPECT_EQ(std::count(plain.mapped.begin(), plain.mapped.end(), false), 0);
+
+  options.map_thinning = MapThinningOptions{};
+  options.map_thinning.max_revealed_area_m2 =
+      0.05;  // this short drive's noise reveals more than the default
+  const ThereAndBack thinned = DriveThereAndBack(options);
+  ASSERT_EQ(thinned.graph.nodes.size(), plain.graph.nodes.size());
+  for (std::size_t i = 0; i < plain.graph.nodes.size(); ++i) {
+    EXPECT_EQ(thinned.graph.nodes[i].pose.x_m, plain.graph.nodes[i].pose.x_m) << "keyframe " << i;
+    EXPECT_EQ(thinned.graph.nodes[i].pose.yaw_rad, plain.graph.nodes[i].pose.yaw_rad);
+  }
+  const int64_t not_mapped = std::count(thinned.mapped.begin(), thinned.mapped.end(), false);
+  EXPECT_EQ(not_mapped, thinned.not_mapped);
+  EXPECT_GE(not_mapped * 4, static_cast<int64_t>(plain.graph.nodes.size()));  // the return leg
+  EXPECT_TRUE(thinned.mapped.front());  // nothing to explain the first
+  // Mapped keyframes lie at most max_travel_m (and one scan) apart, or max_rotation_rad.
+  std::size_t last_mapped = 0;
+  for (std::size_t i = 1; i < thinned.mapped.size(); ++i) {
+    if (!thinned.mapped[i]) continue;
+    const Pose2d step = thinned.graph.nodes[last_mapped].pose.Between(thinned.graph.nodes[i].pose);
+    EXPECT_TRUE(std::hypot(step.x_m, step.y_m) <= 1.15 || std::abs(step.yaw_rad) <= 0.75)
+        << "keyframe " << i;
+    last_mapped = i;
+  }
+  // The map: the same cells known, within a few percent.
+  const auto plain_counts = plain.map.CountCells();
+  const auto thinned_counts = thinned.map.CountCells();
+  EXPECT_NEAR(static_cast<double>(thinned_counts.free), plain_counts.free,
+              0.03 * plain_counts.free);
+  EXPECT_NEAR(static_cast<double>(thinned_counts.occupied), plain_counts.occupied,
+              0.10 * plain_counts.occupied);
+
+  // Nothing explained: every keyframe mapped (noise alone reveals a cell or two behind walls).
+  options.map_thinning.max_revealed_area_m2 = 0.0;
+  EXPECT_EQ(DriveThereAndBack(options).not_mapped, 0);
+  std::printf("corridor there and back: %zu keyframes, %lld of them kept out of the map\n",
+              thinned.graph.nodes.size(), static_cast<long long>(not_mapped));
 }
 
 TEST(Slam, FirstKeyframeAnchorsTheMapAndPosesFollowTheTruth) {
@@ -278,8 +355,8 @@ TEST(Slam, MapIsReRenderedOnlyWhenClosuresMoveBeamsBeyondTheTolerance) {
               lazy_optimized, lazy_invalidated, drift_m);
 }
 
-// However many partial re-renders a lap needed, the map ends as a fresh
-// insertion of every keyframe at its final pose (tolerance 0: every move counts).
+// However many partial re-renders a lap needed, the map ends as a fresh insertion
+// of every mapped keyframe at its final pose (tolerance 0: every move counts).
 TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
   SlamOptions options;
   options.loop_closure.map_rerender_tolerance_m = 0.0;
@@ -288,6 +365,7 @@ TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
   const ScriptedDrive drive = LoadScriptedDrive(kRoot + "/config/drives/test_loop.yaml");
   Simulator& sim = run.sim();
   std::vector<LidarScan> keyframe_scans;
+  std::vector<bool> mapped;  // per keyframe: in the map (see map_thinning)
   int re_renders = 0;
   while (const auto command = drive.CommandAt(sim.utime())) {
     sim.SetCommand(*command);
@@ -295,7 +373,10 @@ TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
     if (out.odometry) slam.AddOdometry(*out.odometry);
     if (!out.scan) continue;
     const ScanUpdate update = slam.AddScan(*out.scan);
-    if (update.keyframe_added) keyframe_scans.push_back(*out.scan);
+    if (update.keyframe_added) {
+      keyframe_scans.push_back(*out.scan);
+      mapped.push_back(update.keyframe_mapped);
+    }
     if (update.map_invalidated) {
       ++re_renders;
       slam.RenderMap();  // re-render now, as the node does before publishing
@@ -306,8 +387,10 @@ TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
   ASSERT_EQ(keyframe_scans.size(), slam.graph().nodes.size());
   OccupancyMapper fresh(options.mapper);
   for (std::size_t i = 0; i < keyframe_scans.size(); ++i) {
-    fresh.InsertScan(slam.graph().nodes[i].pose, keyframe_scans[i]);
+    if (mapped[i]) fresh.InsertScan(slam.graph().nodes[i].pose, keyframe_scans[i]);
   }
+  EXPECT_GT(slam.counters().keyframes_not_mapped, 0);  // the lap passes mapped ground
+  EXPECT_EQ(std::count(mapped.begin(), mapped.end(), false), slam.counters().keyframes_not_mapped);
   const OccupancyGrid expected = fresh.Render();
   int known = 0, differing = 0;
   for (int row = 0; row < expected.height_cells(); ++row) {
