@@ -18,6 +18,31 @@ struct CellIndex {
   bool operator!=(const CellIndex& other) const { return !(*this == other); }
 };
 
+// Visits the cells of the 8-connected Bresenham line from `from` to `to`, both included,
+// in order, while `visit(cell)` returns true. Returns false when a visit stopped it.
+template <typename Visit>
+bool VisitLine(CellIndex from, CellIndex to, Visit&& visit) {
+  const int dx = to.col > from.col ? to.col - from.col : from.col - to.col;
+  const int dy = -(to.row > from.row ? to.row - from.row : from.row - to.row);
+  const int step_col = from.col < to.col ? 1 : -1;
+  const int step_row = from.row < to.row ? 1 : -1;
+  int error = dx + dy;
+  CellIndex cell = from;
+  while (true) {
+    if (!visit(cell)) return false;
+    if (cell == to) return true;
+    const int twice = 2 * error;
+    if (twice >= dy) {
+      error += dy;
+      cell.col += step_col;
+    }
+    if (twice <= dx) {
+      error += dx;
+      cell.row += step_row;
+    }
+  }
+}
+
 class OccupancyGrid {
  public:
   static constexpr int8_t kUnknown = -1;

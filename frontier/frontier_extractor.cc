@@ -101,23 +101,7 @@ std::vector<std::vector<CellIndex>> SplitCluster(const std::vector<CellIndex>& c
 
 // True when every cell on the Bresenham line a..b (both included) is known free.
 bool ClearLine(const OccupancyGrid& map, CellIndex a, CellIndex b, int free_threshold) {
-  const int dc = std::abs(b.col - a.col), sc = a.col < b.col ? 1 : -1;
-  const int dr = -std::abs(b.row - a.row), sr = a.row < b.row ? 1 : -1;
-  int error = dc + dr;
-  CellIndex cell = a;
-  while (true) {
-    if (!IsKnownFree(map.at(cell), free_threshold)) return false;
-    if (cell == b) return true;
-    const int twice = 2 * error;
-    if (twice >= dr) {
-      error += dr;
-      cell.col += sc;
-    }
-    if (twice <= dc) {
-      error += dc;
-      cell.row += sr;
-    }
-  }
+  return VisitLine(a, b, [&](CellIndex cell) { return IsKnownFree(map.at(cell), free_threshold); });
 }
 
 // The reachable cell nearest the centroid among the segment's cells and the

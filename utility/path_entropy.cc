@@ -29,27 +29,14 @@ void PathEntropyOptions::Validate() const {
 }
 
 std::vector<CellIndex> BresenhamLine(CellIndex from, CellIndex to) {
-  const int dx = std::abs(to.col - from.col);
-  const int dy = -std::abs(to.row - from.row);
-  const int step_col = from.col < to.col ? 1 : -1;
-  const int step_row = from.row < to.row ? 1 : -1;
   std::vector<CellIndex> line;
-  line.reserve(static_cast<std::size_t>(std::max(dx, -dy)) + 1);
-  int error = dx + dy;
-  CellIndex cell = from;
-  while (true) {
+  line.reserve(
+      static_cast<std::size_t>(std::max(std::abs(to.col - from.col), std::abs(to.row - from.row))) +
+      1);
+  VisitLine(from, to, [&](CellIndex cell) {
     line.push_back(cell);
-    if (cell == to) break;
-    const int twice = 2 * error;
-    if (twice >= dy) {
-      error += dy;
-      cell.col += step_col;
-    }
-    if (twice <= dx) {
-      error += dx;
-      cell.row += step_row;
-    }
-  }
+    return true;
+  });
   return line;
 }
 
@@ -63,14 +50,15 @@ RayEntropy PathEntropy(const OccupancyGrid& map, CellIndex robot, CellIndex targ
   const double h_unknown = CellEntropyBits(options.p_unknown);
   const double h_known = CellEntropyBits(options.p_known);
   RayEntropy result;
-  for (const CellIndex& cell : BresenhamLine(robot, target)) {
+  VisitLine(robot, target, [&](CellIndex cell) {
     ++result.ray_cells;
     // Off the map reads as known (docs/architecture.md §5): nothing there for the robot to learn by
     // going.
     if (map.ValueOr(cell, OccupancyGrid::kFree) == OccupancyGrid::kUnknown) {
       ++result.unknown_cells;
     }
-  }
+    return true;
+  });
   // Summed as counts times h so that E is exact for a given mix, whatever the order.
   result.entropy_bits =
       result.unknown_cells * h_unknown + (result.ray_cells - result.unknown_cells) * h_known;
