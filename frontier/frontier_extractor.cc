@@ -160,30 +160,49 @@ void ReachableCells::Compute(const Costmap& costmap, CellIndex start,
                              const GlobalPlannerOptions& options) {
   costmap_ = &costmap;
   use_tree_ = false;
-  start_label_ = 0;
+  reachable_.assign(costmap.costs().size(), 0);
   if (!costmap.Contains(start)) return;  // nothing is reachable from off the map
   if (!costmap.Traversable(start)) {
     GlobalPlanner(options).Search(costmap, start, {}, &tree_);
     use_tree_ = true;
     return;
   }
+  // Scanline flood fill of the start's 4-connected traversable component: each
+  // seed grows into its whole row run, then seeds the runs it touches above and below.
   const int width = costmap.width_cells();
   const int height = costmap.height_cells();
-  traversable_.create(height, width, CV_8U);
-  const std::vector<uint8_t>& costs = costmap.costs();
-  for (int row = 0; row < height; ++row) {
-    uint8_t* out = traversable_.ptr<uint8_t>(row);
-    const uint8_t* in = costs.data() + static_cast<std::size_t>(row) * width;
-    for (int col = 0; col < width; ++col) out[col] = in[col] < Costmap::kInscribed ? 1 : 0;
+  const uint8_t* costs = costmap.costs().data();
+  uint8_t* reached = reachable_.data();
+  auto open = [&](std::size_t i) { return !reached[i] && costs[i] < Costmap::kInscribed; };
+  std::vector<CellIndex>& seeds = seeds_;
+  seeds.clear();
+  seeds.push_back(start);
+  while (!seeds.empty()) {
+    const CellIndex seed = seeds.back();
+    seeds.pop_back();
+    const std::size_t row_start = static_cast<std::size_t>(seed.row) * width;
+    if (!open(row_start + seed.col)) continue;
+    int left = seed.col, right = seed.col;
+    while (left > 0 && open(row_start + left - 1)) --left;
+    while (right + 1 < width && open(row_start + right + 1)) ++right;
+    std::fill(reached + row_start + left, reached + row_start + right + 1, 1);
+    for (const int row : {seed.row - 1, seed.row + 1}) {
+      if (row < 0 || row >= height) continue;
+      const std::size_t other = static_cast<std::size_t>(row) * width;
+      for (int col = left; col <= right; ++col) {
+        // One seed per run of open cells.
+        if (open(other + col) && (col == left || !open(other + col - 1))) {
+          seeds.push_back({col, row});
+        }
+      }
+    }
   }
-  cv::connectedComponents(traversable_, labels_, 4, CV_32S);
-  start_label_ = labels_.at<int32_t>(start.row, start.col);
 }
 
 bool ReachableCells::Reachable(CellIndex cell) const {
   if (costmap_ == nullptr || !costmap_->Traversable(cell)) return false;
   if (use_tree_) return tree_.Reachable(cell);
-  return start_label_ > 0 && labels_.at<int32_t>(cell.row, cell.col) == start_label_;
+  return reachable_[costmap_->LinearIndex(cell)] != 0;
 }
 
 void FrontierOptions::Validate() const {
@@ -236,37 +255,57 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   s.frontier_cells = cv::countNonZero(m.frontier);
   if (s.frontier_cells == 0) return frontiers;
 
-  // Step 2: clusters, the small ones dropped.
-  const int label_count =
-      cv::connectedComponentsWithStats(m.frontier, m.labels, m.stats, m.centroids, 8, CV_32S);
-  const cv::Mat& cluster_stats = m.stats;
-  s.clusters = label_count - 1;
+  // Step 2: 8-connected clusters, each flood-filled from its first cell in
+  // raster order, clearing its cells from the mask as it goes.
   const int min_cells =
       std::max(1, static_cast<int>(std::ceil(options.min_size_m / resolution_m - kRoundingSlack)));
-
-  // Step 3: segments of bounded length; each cluster's cells gathered from its bounding box.
-  std::vector<std::vector<CellIndex>> segments;
-  std::vector<CellIndex> cluster;
-  for (int label = 1; label < label_count; ++label) {
-    if (cluster_stats.at<int32_t>(label, cv::CC_STAT_AREA) < min_cells) {
-      ++s.clusters_too_small;
-      continue;
-    }
-    const CellIndex origin{cluster_stats.at<int32_t>(label, cv::CC_STAT_LEFT),
-                           cluster_stats.at<int32_t>(label, cv::CC_STAT_TOP)};
-    const int box_width = cluster_stats.at<int32_t>(label, cv::CC_STAT_WIDTH);
-    const int box_height = cluster_stats.at<int32_t>(label, cv::CC_STAT_HEIGHT);
-    cluster.clear();
-    for (int row = origin.row; row < origin.row + box_height; ++row) {
-      const int32_t* in = m.labels.ptr<int32_t>(row);
-      for (int col = origin.col; col < origin.col + box_width; ++col) {
-        if (in[col] == label) cluster.push_back({col, row});
+  // Segments of each kept cluster, with the cluster's first 2 x 2 block (see the header).
+  std::vector<std::pair<std::pair<int, int>, std::vector<std::vector<CellIndex>>>> clusters;
+  std::vector<CellIndex>& cluster = m.cluster;
+  for (int seed_row = 0; seed_row < height; ++seed_row) {
+    const uint8_t* seed_line = m.frontier.ptr<uint8_t>(seed_row);
+    for (int seed_col = 0; seed_col < width; ++seed_col) {
+      if (!seed_line[seed_col]) continue;
+      ++s.clusters;
+      cluster.clear();
+      cluster.push_back({seed_col, seed_row});
+      m.frontier.at<uint8_t>(seed_row, seed_col) = 0;
+      CellIndex low = cluster.front(), high = cluster.front();  // bounding box corners
+      std::pair<int, int> first_block{seed_row / 2, seed_col / 2};
+      for (std::size_t head = 0; head < cluster.size(); ++head) {
+        const CellIndex u = cluster[head];
+        for (int row = std::max(0, u.row - 1); row <= std::min(height - 1, u.row + 1); ++row) {
+          uint8_t* line = m.frontier.ptr<uint8_t>(row);
+          for (int col = std::max(0, u.col - 1); col <= std::min(width - 1, u.col + 1); ++col) {
+            if (!line[col]) continue;
+            line[col] = 0;
+            cluster.push_back({col, row});
+            low = {std::min(low.col, col), std::min(low.row, row)};
+            high = {std::max(high.col, col), std::max(high.row, row)};
+            first_block = std::min(first_block, std::make_pair(row / 2, col / 2));
+          }
+        }
       }
+      if (static_cast<int>(cluster.size()) < min_cells) {
+        ++s.clusters_too_small;
+        continue;
+      }
+      // Step 3: segments of bounded length, from the cluster's cells in raster order.
+      std::sort(cluster.begin(), cluster.end(), [](const CellIndex& a, const CellIndex& b) {
+        return a.row != b.row ? a.row < b.row : a.col < b.col;
+      });
+      clusters.emplace_back(
+          first_block, SplitCluster(cluster, low, high.col - low.col + 1, high.row - low.row + 1,
+                                    resolution_m, options.max_segment_length_m));
     }
-    for (auto& segment : SplitCluster(cluster, origin, box_width, box_height, resolution_m,
-                                      options.max_segment_length_m)) {
-      segments.push_back(std::move(segment));
-    }
+  }
+  // Clusters in the order of their first 2 x 2 block (blocks in raster order); no two
+  // clusters share a block, as a block's cells are all 8-neighbours.
+  std::sort(clusters.begin(), clusters.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::vector<CellIndex>> segments;
+  for (auto& [block, pieces] : clusters) {
+    for (auto& segment : pieces) segments.push_back(std::move(segment));
   }
   s.segments = static_cast<int>(segments.size());
   if (segments.empty()) return frontiers;

@@ -7,7 +7,8 @@
 // 1. Frontier cells: map value in 0..free_threshold (known free) with an
 //    8-neighbour at -1 (unknown). Off-map neighbours are not unknown (the SLAM
 //    grid keeps a margin of unknown around everything it has seen).
-// 2. Clusters: cv::connectedComponentsWithStats, 8-connectivity; clusters of
+// 2. Clusters: 8-connected, ordered by their first 2 x 2 block (blocks of
+//    rows 2i..2i+1 and columns 2j..2j+1, in raster order of (i, j)); clusters of
 //    fewer than min_size_m / resolution cells are dropped (specks of unknown
 //    inside known free space make clusters of at most 8 cells).
 // 3. Segments: a cluster's cells are ordered by geodesic distance (8-connected
@@ -32,7 +33,7 @@
 // GlobalPlanner::Search are exactly the 4-connected component of the start's
 // cell among traversable cells (the planner's diagonal steps need both
 // orthogonal neighbours enterable, so every path it finds has a 4-connected
-// twin), so one cv::connectedComponents call answers it in a few ms where a
+// twin), so one flood fill of that component answers it in a few ms where a
 // one-to-all Search takes tens on a campus-sized map. When the robot's cell
 // is itself not traversable (pressed against a wall), the planner's start
 // escape decides, so one GlobalPlanner::Search from the robot is run instead.
@@ -87,14 +88,14 @@ class ReachableCells {
   const Costmap* costmap_ = nullptr;
   bool use_tree_ = false;
   ShortestPathTree tree_;
-  cv::Mat traversable_;  // 1 = cost < kInscribed
-  cv::Mat labels_;       // 4-connected components of traversable_ (CV_32S, 0 = not traversable)
-  int32_t start_label_ = 0;
+  std::vector<uint8_t> reachable_;  // per cell (Costmap::LinearIndex), 1 = reachable
+  std::vector<CellIndex> seeds_;    // flood-fill scratch
 };
 
 // Buffers kept between extractions, so that maps of one size allocate nothing new.
 struct FrontierScratch {
-  cv::Mat unknown, free, near_unknown, frontier, labels, stats, centroids;
+  cv::Mat unknown, free, near_unknown, frontier;
+  std::vector<CellIndex> cluster;
   Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
 };
