@@ -17,6 +17,9 @@ constexpr uint16_t kUnknownBit = 1u << 8;
 constexpr uint16_t kEscapeBit = 1u << 9;
 constexpr uint8_t kSettledBit = 1;
 constexpr uint8_t kTargetBit = 2;
+// A*'s heuristic is this fraction of the octile distance to the goal: < 1 keeps
+// every key step >= 1 - this (the bucket width; see Search), and near 1 prunes most.
+constexpr float kHeuristicWeight = 0.95f;
 
 template <typename T>
 [[noreturn]] void ThrowBadOption(const std::string& name, T value, const std::string& why) {
@@ -97,6 +100,13 @@ ShortestPathTree GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
 
 void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
                            const std::vector<CellIndex>& targets, ShortestPathTree* tree) const {
+  SearchImpl(costmap, start, targets, std::nullopt, tree);
+}
+
+void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
+                               const std::vector<CellIndex>& targets,
+                               std::optional<CellIndex> heuristic_goal,
+                               ShortestPathTree* tree) const {
   const int width = costmap.width_cells();
   const int height = costmap.height_cells();
   const int padded_width = width + 2;
@@ -185,32 +195,53 @@ void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
                            -padded_width - 1};
   const int diag_sides[4][2] = {{0, 2}, {1, 2}, {0, 3}, {1, 3}};
 
-  // Bucket queue with bucket width 1 = the smallest edge cost (a straight step
-  // into a cost-0 cell): a cell popped from bucket k can only lower costs to
-  // >= k + 1, so every cell in the current bucket already has its final cost
-  // and the bucket may be drained in any order (Dinitz's refinement of Dial's
+  // Cells are queued by key = cost + h, where h is 0 (Dijkstra) or, towards a
+  // single goal, kHeuristicWeight * the octile distance to it in cells (A*).
+  // Every step costs at least its octile length (multipliers are >= 1), so a
+  // step raises the key by at least (1 - kHeuristicWeight) * 1 = the bucket
+  // width: a cell popped from bucket k can only lower keys to >= bucket k + 1,
+  // so every cell in the current bucket already has its final cost and the
+  // bucket may be drained in any order (Dinitz's refinement of Dial's
   // algorithm). Exact for float costs, O(1) per push and pop. Buckets are used
-  // circularly; there are more of them than the largest edge cost spans.
+  // circularly; there are more of them than the largest key step spans.
+  const float bucket_width = heuristic_goal ? 1.0f - kHeuristicWeight : 1.0f;
+  const float inverse_width = 1.0f / bucket_width;
   float max_edge = 1.0f;
   for (float m : multiplier) {
     if (m != kInf) max_edge = std::max(max_edge, kSqrt2 * m);
   }
+  // A key step is at most the edge cost + the heuristic's change (<= sqrt 2).
+  const float max_key_step = (max_edge + kSqrt2) * inverse_width;
   std::size_t bucket_count = 4;
-  while (bucket_count < static_cast<std::size_t>(max_edge) + 3) bucket_count *= 2;
+  while (bucket_count < static_cast<std::size_t>(max_key_step) + 3) bucket_count *= 2;
   const std::size_t bucket_mask = bucket_count - 1;
   std::vector<std::vector<int32_t>>& buckets = t.buckets_;
   if (buckets.size() < bucket_count) buckets.resize(bucket_count);
   for (auto& bucket : buckets) bucket.clear();
-  auto bucket_of = [bucket_mask](float c) { return static_cast<std::size_t>(c) & bucket_mask; };
+  auto bucket_of = [bucket_mask, inverse_width](float key) {
+    return static_cast<std::size_t>(key * inverse_width) & bucket_mask;
+  };
+  // h per padded index; the goal's padded coordinates (the border shifts both alike).
+  const int goal_col = heuristic_goal ? heuristic_goal->col + 1 : 0;
+  const int goal_row = heuristic_goal ? heuristic_goal->row + 1 : 0;
+  const bool use_heuristic = heuristic_goal.has_value();
+  auto heuristic = [&](int32_t p) -> float {
+    if (!use_heuristic) return 0.0f;
+    const int dc = std::abs(p % padded_width - goal_col);
+    const int dr = std::abs(p / padded_width - goal_row);
+    return kHeuristicWeight *
+           (static_cast<float>(std::max(dc, dr)) + (kSqrt2 - 1.0f) * std::min(dc, dr));
+  };
 
   cost[start_index] = 0.0f;
   length[start_index] = 0.0f;
   parent[start_index] = -1;
-  buckets[0].push_back(start_index);
+  buckets[bucket_of(heuristic(start_index))].push_back(start_index);
   std::size_t queued = 1;  // entries in all buckets, stale ones included
   std::size_t settled_count = 0;
   bool done = false;
-  for (std::size_t current = 0; queued > 0 && !done; current = (current + 1) & bucket_mask) {
+  for (std::size_t current = bucket_of(heuristic(start_index)); queued > 0 && !done;
+       current = (current + 1) & bucket_mask) {
     std::vector<int32_t>& bucket = buckets[current];
     for (std::size_t i = 0; i < bucket.size(); ++i) {
       const int32_t u = bucket[i];
@@ -235,7 +266,7 @@ void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
           cost[v] = candidate;
           length[v] = length_u + 1.0f;
           parent[v] = u;
-          buckets[bucket_of(candidate)].push_back(v);
+          buckets[bucket_of(candidate + heuristic(v))].push_back(v);
           ++queued;
         }
       }
@@ -247,7 +278,7 @@ void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
           cost[v] = candidate;
           length[v] = length_u + kSqrt2;
           parent[v] = u;
-          buckets[bucket_of(candidate)].push_back(v);
+          buckets[bucket_of(candidate + heuristic(v))].push_back(v);
           ++queued;
         }
       }
@@ -262,9 +293,10 @@ std::optional<GlobalPath> GlobalPlanner::Plan(const Costmap& costmap, Point2d st
   const CellIndex start = costmap.WorldToCell(start_m);
   const CellIndex goal = costmap.WorldToCell(goal_m);
   if (!costmap.Contains(start) || !costmap.Traversable(goal)) return std::nullopt;
-  if (scratch == nullptr) return Search(costmap, start, {goal}).PathTo(goal);
-  Search(costmap, start, {goal}, scratch);
-  return scratch->PathTo(goal);
+  ShortestPathTree local_tree;
+  ShortestPathTree& tree = scratch != nullptr ? *scratch : local_tree;
+  SearchImpl(costmap, start, {goal}, goal, &tree);
+  return tree.PathTo(goal);
 }
 
 }  // namespace aslam

@@ -7,9 +7,9 @@
 // entered, besides the start escape below; a diagonal step needs both
 // orthogonal neighbours enterable (no corner cutting). One search from the
 // robot gives path lengths and paths to any number of targets (what the
-// utility needs per decision); a single-goal query stops as soon as the goal
-// is settled. Costs are accumulated in float (relative error ~1e-7 per step);
-// the queue is an exact bucket queue (see .cc).
+// utility needs per decision); a single-goal query (Plan) is an A* search
+// that stops as soon as the goal is settled. Costs are accumulated in float (relative error ~1e-7
+// per step); the queue is an exact bucket queue (see .cc).
 
 #include <cstddef>
 #include <cstdint>
@@ -103,6 +103,10 @@ class GlobalPlanner {
   const GlobalPlannerOptions& options() const { return options_; }
 
  private:
+  // Search, as A* towards `heuristic_goal` when given (same costs, far fewer cells settled).
+  void SearchImpl(const Costmap& costmap, CellIndex start, const std::vector<CellIndex>& targets,
+                  std::optional<CellIndex> heuristic_goal, ShortestPathTree* tree) const;
+
   GlobalPlannerOptions options_;
 };
 

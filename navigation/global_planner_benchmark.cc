@@ -5,6 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -174,6 +175,37 @@ void BM_PlanAcrossCampus(benchmark::State& state) {
   state.counters["path_m"] = length_m;
 }
 BENCHMARK(BM_PlanAcrossCampus)->Unit(benchmark::kMillisecond);
+
+// Single-goal plans from the start to cells 10 m and 30 m away along the path
+// (the navigator's goals), into a reused tree as the navigator does.
+void BM_PlanCampusReuse(benchmark::State& state) {
+  const Costmap& costmap = CampusCostmap();
+  const GlobalPlanner planner;
+  const double want_m = static_cast<double>(state.range(0));
+  static const ShortestPathTree all = planner.Search(costmap, StartCell());
+  CellIndex goal = StartCell();
+  for (int row = 0; row < costmap.height_cells(); ++row) {
+    for (int col = 0; col < costmap.width_cells(); ++col) {
+      const CellIndex cell{col, row};
+      if (all.Reachable(cell) &&
+          std::abs(all.PathLengthM(cell) - want_m) < std::abs(all.PathLengthM(goal) - want_m)) {
+        goal = cell;
+      }
+    }
+  }
+  const Point2d start_m{Campus().start.x_m, Campus().start.y_m};
+  ShortestPathTree tree;
+  for (auto _ : state) {
+    const auto path = planner.Plan(costmap, start_m, costmap.CellCenter(goal), &tree);
+    if (!path) {
+      state.SkipWithError("no path");
+      return;
+    }
+    benchmark::DoNotOptimize(path->length_m);
+  }
+  state.counters["settled"] = static_cast<double>(tree.settled_count());
+}
+BENCHMARK(BM_PlanCampusReuse)->Arg(10)->Arg(30)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace aslam

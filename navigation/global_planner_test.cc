@@ -191,6 +191,53 @@ TEST(GlobalPlannerTest, DijkstraEqualsBellmanFordOnRandomGrids) {
   EXPECT_GT(reachable_checked, 20000);
 }
 
+// Plan is an A* search: its paths must cost exactly what the one-to-all search says.
+TEST(GlobalPlannerTest, PlanCostsEqualBellmanFordOnRandomGrids) {
+  int planned = 0;
+  for (int seed = 0; seed < 120; ++seed) {
+    const Costmap costmap = seed < 60 ? RandomCostmap(900 + seed, 3 + seed % 17, 3 + seed % 11)
+                                      : RandomCostmap(900 + seed, 50, 40);
+    const GlobalPlannerOptions options = RandomPlannerOptions(seed);
+    const GlobalPlanner planner(options);
+    std::mt19937 rng(seed);
+    const CellIndex start = RandomTraversableCell(rng, costmap);
+    if (start.col < 0) continue;
+    const std::vector<double> expected = BruteForceCosts(costmap, options, start);
+    ShortestPathTree scratch;
+    for (int k = 0; k < 5; ++k) {
+      const CellIndex goal = RandomTraversableCell(rng, costmap);
+      const std::string where = "seed " + std::to_string(seed) + " goal " +
+                                std::to_string(goal.col) + "," + std::to_string(goal.row);
+      const double want = expected[costmap.LinearIndex(goal)];
+      const auto path = planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal),
+                                     k % 2 == 0 ? &scratch : nullptr);
+      ASSERT_EQ(path.has_value(), want != kInf) << where;
+      if (!path) continue;
+      EXPECT_NEAR(path->cost, want, 1e-5 * (1.0 + want)) << where;
+      ExpectValidPath(costmap, options, *path, start, goal, where);
+      ++planned;
+    }
+  }
+  EXPECT_GT(planned, 300);
+}
+
+// Towards one goal in the open, A* settles a narrow band, not the disc Dijkstra settles.
+TEST(GlobalPlannerTest, PlanSettlesFewCellsTowardsItsGoal) {
+  const OccupancyGrid grid(200, 200, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  const Costmap costmap(grid, CostmapOptions{});
+  const GlobalPlanner planner;
+  const CellIndex start{20, 100};
+  const CellIndex goal{180, 100};
+  ShortestPathTree plan_tree;
+  const auto path =
+      planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal), &plan_tree);
+  ASSERT_TRUE(path.has_value());
+  EXPECT_NEAR(path->length_m, 160 * 0.05, 1e-5);
+  const ShortestPathTree dijkstra = planner.Search(costmap, start, {goal});
+  EXPECT_EQ(dijkstra.CostTo(goal), path->cost);
+  EXPECT_LT(plan_tree.settled_count() * 5, dijkstra.settled_count());
+}
+
 TEST(GlobalPlannerTest, ManyTargetsSearchEqualsOneSearchPerTarget) {
   for (int seed = 0; seed < 12; ++seed) {
     const Costmap costmap = RandomCostmap(500 + seed, 60, 45);
