@@ -8,8 +8,8 @@
 // orthogonal neighbours enterable (no corner cutting). One search from the
 // robot gives path lengths and paths to any number of targets (what the
 // utility needs per decision); a single-goal query (Plan) is an A* search
-// that stops as soon as the goal is settled. Costs are accumulated in float (relative error ~1e-7
-// per step); the queue is an exact bucket queue (see .cc).
+// that stops as soon as the goal is settled. Costs are accumulated in float
+// (relative error ~1e-7 per step); the queue is an exact bucket queue (see .cc).
 
 #include <cstddef>
 #include <cstdint>

@@ -15,7 +15,7 @@
 //                |   clear), replan, resume; once max_recoveries are spent --> failed
 //   Cancel -> idle
 //
-// Global plans (Dijkstra) are redone every replan_period_s and at once when a
+// Global plans (A*) are redone every replan_period_s and at once when a
 // new map makes a cell of the path untraversable; the planning costmap is the
 // map plus the scan returns near the robot that the map does not explain.
 
