@@ -25,7 +25,9 @@ NavNode::NavNode(lcm::LCM& lcm, NavOptions options)
                                      [this](const explore_goal_t& m) { return OnGoal(m); });
 }
 
-void NavNode::NoteTime(int64_t utime) { latest_utime_ = std::max(latest_utime_, utime); }
+void NavNode::NoteTime(int64_t utime) {
+  if (!scan_clock_.started()) latest_utime_ = std::max(latest_utime_, utime);
+}
 
 bool NavNode::OnPose(const pose_t& msg) {
   const auto pose = MapFramePoseFromLcm(msg);
@@ -52,7 +54,10 @@ bool NavNode::OnMap(const occupancy_grid_t& msg) {
 bool NavNode::OnScan(const lidar_scan_t& msg) {
   const auto scan = FromLcm(msg);
   if (!scan) return false;
-  NoteTime(scan->utime);
+  const StreamClock::Verdict verdict = scan_clock_.Offer(scan->utime);
+  if (!StreamClock::Accepted(verdict)) return false;
+  if (verdict == StreamClock::Verdict::kResynced) navigator_.RestartClock(scan->utime);
+  latest_utime_ = scan->utime;
   navigator_.SetScan(*scan);
   const NavOutput out = navigator_.Step(scan->utime);
   const velocity_command_t command = ToLcm(out.command);

@@ -7,6 +7,7 @@
 // least once per second of pose time. The same node runs in the aslam-nav
 // process and in-process on memq:// (docs/architecture.md §4).
 
+#include <cmath>
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 
@@ -15,6 +16,7 @@
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/lcm_util.h"
+#include "common/stream_clock.h"
 #include "navigation/nav_config.h"
 #include "navigation/navigator.h"
 
@@ -45,6 +47,8 @@ class NavNode {
   Navigator navigator_;
   Subscriptions subscriptions_;
   int64_t latest_utime_ = 0;
+  // Control cycles run on the scans' stamps: a bad stamp must not stall replans or timers.
+  StreamClock scan_clock_{std::llround(kDefaultMaxTimeGapS * 1e6), kDefaultResyncMessages};
   int64_t last_status_utime_ = 0;
   int64_t published_path_revision_ = 0;
   int64_t commands_published_ = 0;

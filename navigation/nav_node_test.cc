@@ -118,6 +118,54 @@ TEST(NavNode, StatusKeepsComingWithoutScansAndShutdownPublishesAStop) {
   EXPECT_EQ(commands[0].angular_radps, 0.0);
 }
 
+// Publishes a parked robot's pose and scan at `utime` on an open map.
+void PublishPoseAndScan(InProcessHost& host, int64_t utime) {
+  const pose_t pose = ToLcm(StampedPose{utime, {1.0, 1.0, 0.0}, 0.0, 0.0}, "map");
+  host.lcm().publish(channels::kSlamPose, &pose);
+  LidarScan scan;
+  scan.utime = utime;
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = 2 * M_PI / 360;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 10.0;
+  scan.range_m.assign(360, 9.0f);  // walls far beyond the goal
+  const lidar_scan_t msg = ToLcm(scan);
+  host.lcm().publish(channels::kLidarScan, &msg);
+  host.DispatchPending();
+}
+
+TEST(NavNode, ScanClockJumpsCostOnlyTheirMessagesAndAStepIsFollowed) {
+  InProcessHost host;
+  NavNode node(host.lcm(), NavOptions{});
+  const OccupancyGrid grid(120, 120, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  const occupancy_grid_t map = ToLcm(grid, 0, 1, "map");
+  host.lcm().publish(channels::kSlamMap, &map);
+  const explore_goal_t goal = ToLcm(NavGoalRequest{0, 1, false, {5.0, 5.0}});
+  host.lcm().publish(channels::kExploreGoal, &goal);
+  host.DispatchPending();
+  constexpr int64_t kStepUs = 100'000;
+  int64_t utime = 1'000'000;
+  for (int i = 0; i < 20; ++i, utime += kStepUs) PublishPoseAndScan(host, utime);
+  const int64_t replans_before = node.navigator().replans();
+  ASSERT_GE(replans_before, 2) << node.navigator().status().detail;
+
+  // One scan stamped 1000 s ahead is rejected; the 1 Hz replans go on.
+  PublishPoseAndScan(host, utime + 1'000'000'000);
+  EXPECT_EQ(node.subscriptions().stats(channels::kLidarScan).rejected, 1);
+  const int64_t commands_before = node.commands_published();
+  for (int i = 0; i < 30; ++i, utime += kStepUs) PublishPoseAndScan(host, utime);
+  EXPECT_EQ(node.commands_published(), commands_before + 30);
+  EXPECT_GE(node.navigator().replans(), replans_before + 2);
+
+  // The host clock steps 1000 s back: after a few scans the navigator runs on the new clock.
+  const int64_t replans_at_step = node.navigator().replans();
+  utime -= 1'000'000'000;
+  for (int i = 0; i < 40; ++i, utime += kStepUs) PublishPoseAndScan(host, utime);
+  EXPECT_EQ(node.subscriptions().stats(channels::kLidarScan).rejected, 1 + 2);
+  EXPECT_GE(node.navigator().replans(), replans_at_step + 2);
+  EXPECT_EQ(node.navigator().status().state, NavState::kActive);
+}
+
 TEST(NavLcm, StatusRoundTrips) {
   NavStatus status;
   status.utime = 12;

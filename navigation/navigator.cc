@@ -144,6 +144,13 @@ void Navigator::Stop(NavState state, const std::string& detail) {
   last_velocity_ = {};
 }
 
+void Navigator::RestartClock(int64_t utime) {
+  pose_.reset();
+  replan_due_ = true;
+  phase_start_utime_ = utime;
+  ResetProgress(utime);
+}
+
 void Navigator::ResetProgress(int64_t utime) {
   advance_m_ = 0.0;
   last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();

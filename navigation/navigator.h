@@ -85,6 +85,10 @@ class Navigator {
   // Stops and idles if `goal_id` is the current goal; returns whether it was.
   bool Cancel(int64_t goal_id, int64_t utime);
 
+  // The scans' clock stepped (a host clock reset): timers restart from `utime`, and the
+  // pose, stamped on the old clock, is forgotten until one on the new clock arrives.
+  void RestartClock(int64_t utime);
+
   // One control cycle at `utime` (the scan rate): replans when due, checks
   // goal and progress, runs the DWA or the recovery, returns the command.
   NavOutput Step(int64_t utime);

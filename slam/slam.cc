@@ -46,9 +46,11 @@ void Require(bool condition, const std::string& field, double value, const char*
 const char* DropReasonName(DropReason reason) {
   switch (reason) {
     case DropReason::kOdometryTimeBackwards: return "odometry_time_backwards";
+    case DropReason::kOdometryTimeJump: return "odometry_time_jump";
     case DropReason::kOdometryJump: return "odometry_jump";
     case DropReason::kOdometryNotFinite: return "odometry_not_finite";
     case DropReason::kScanTimeBackwards: return "scan_time_backwards";
+    case DropReason::kScanTimeJump: return "scan_time_jump";
     case DropReason::kScanBeforeOdometry: return "scan_before_odometry";
     case DropReason::kScanTooFewPoints: return "scan_too_few_points";
     case DropReason::kScanMalformed: return "scan_malformed";
@@ -108,6 +110,8 @@ void ValidateSlamOptions(const SlamOptions& o) {
   Require(in.max_angular_speed_radps > 0, "input.max_angular_speed_radps",
           in.max_angular_speed_radps, "must be > 0");
   Require(in.odometry_buffer_s > 0, "input.odometry_buffer_s", in.odometry_buffer_s, "must be > 0");
+  Require(in.max_time_gap_s > 0, "input.max_time_gap_s", in.max_time_gap_s, "must be > 0");
+  Require(in.resync_messages >= 2, "input.resync_messages", in.resync_messages, "must be >= 2");
   const PoseGraphOptimizerOptions& opt = o.optimizer;
   Require(opt.max_iterations >= 1, "optimizer.max_iterations", opt.max_iterations, "must be >= 1");
   Require(opt.function_tolerance > 0, "optimizer.function_tolerance", opt.function_tolerance,
@@ -133,49 +137,64 @@ Slam::Slam(SlamOptions options)
     : options_(CheckedOrAbort(options)),
       matcher_(options_.scan_matcher),
       optimizer_(options_.optimizer),
-      mapper_(options_.mapper) {}
+      mapper_(options_.mapper),
+      scan_clock_(std::llround(options_.input.max_time_gap_s * 1e6),
+                  options_.input.resync_messages) {}
 
 bool Slam::AddOdometry(const Odometry& raw) {
   if (!IsFinite(raw.pose)) {
     Drop(DropReason::kOdometryNotFinite);
     return false;
   }
-  if (last_raw_odometry_ && raw.utime <= last_raw_odometry_->utime) {
-    Drop(DropReason::kOdometryTimeBackwards);
+  const InputOptions& in = options_.input;
+  const int64_t max_gap_us = std::llround(in.max_time_gap_s * 1e6);
+  // In line: later, by at most the time gap, and no faster than the physical bound
+  // (plus a small slack for noise).
+  auto follows = [&](const Odometry& from, const Odometry& to) {
+    const int64_t dt_us = to.utime - from.utime;
+    if (dt_us <= 0 || dt_us > max_gap_us) return false;
+    const Pose2d delta = from.pose.Between(to.pose);
+    return Norm(delta) <= in.max_linear_speed_mps * dt_us * 1e-6 + 0.05 &&
+           std::abs(delta.yaw_rad) <= in.max_angular_speed_radps * dt_us * 1e-6 + 0.05;
+  };
+  if (!last_raw_odometry_ || follows(*last_raw_odometry_, raw)) {
+    odometry_candidates_.clear();
+    AcceptOdometry(raw);
+    return true;
+  }
+  if (!odometry_candidates_.empty() && !follows(odometry_candidates_.back(), raw)) {
+    odometry_candidates_.clear();
+  }
+  odometry_candidates_.push_back(raw);
+  if (static_cast<int>(odometry_candidates_.size()) < in.resync_messages) {
+    const int64_t dt_us = raw.utime - last_raw_odometry_->utime;
+    Drop(dt_us <= 0           ? DropReason::kOdometryTimeBackwards
+         : dt_us > max_gap_us ? DropReason::kOdometryTimeJump
+                              : DropReason::kOdometryJump);
     return false;
   }
-  const InputOptions& in = options_.input;
-  // Plausible when no faster than the physical bound (plus a small slack for noise).
-  auto plausible = [&](const Odometry& from, const Odometry& to) {
-    const double dt_s = (to.utime - from.utime) * 1e-6;
-    const Pose2d delta = from.pose.Between(to.pose);
-    return Norm(delta) <= in.max_linear_speed_mps * dt_s + 0.05 &&
-           std::abs(delta.yaw_rad) <= in.max_angular_speed_radps * dt_s + 0.05;
-  };
-  if (last_raw_odometry_ && !plausible(*last_raw_odometry_, raw)) {
-    if (jump_candidate_ && raw.utime > jump_candidate_->utime && plausible(*jump_candidate_, raw)) {
-      // The stream continues from the jumped value: the odometry was reset. Rebase
-      // so that no motion is seen across the jump.
-      odometry_correction_ = odometry_correction_.Compose(last_raw_odometry_->pose)
-                                 .Compose(jump_candidate_->pose.Inverse());
-      ++counters_.odometry_rebases;
-    } else {
-      jump_candidate_ = raw;
-      Drop(DropReason::kOdometryJump);
-      return false;
-    }
-  }
-  jump_candidate_.reset();
+  // A new stream (the odometry was reset, or its clock stepped): rebase so that no motion
+  // is seen across the break, and forget the old stream's samples.
+  const std::vector<Odometry> stream = std::move(odometry_candidates_);
+  odometry_candidates_.clear();
+  odometry_correction_ =
+      odometry_correction_.Compose(last_raw_odometry_->pose).Compose(stream.front().pose.Inverse());
+  odometry_.clear();
+  ++counters_.odometry_rebases;
+  for (const Odometry& message : stream) AcceptOdometry(message);
+  return true;
+}
+
+void Slam::AcceptOdometry(const Odometry& raw) {
   last_raw_odometry_ = raw;
   Odometry corrected = raw;
   corrected.pose = odometry_correction_.Compose(raw.pose);
   odometry_.push_back(corrected);
-  const int64_t keep_us = static_cast<int64_t>(in.odometry_buffer_s * 1e6);
+  const int64_t keep_us = static_cast<int64_t>(options_.input.odometry_buffer_s * 1e6);
   while (odometry_.size() > 2 && odometry_.front().utime < raw.utime - keep_us) {
     odometry_.pop_front();
   }
   ++counters_.odometry_received;
-  return true;
 }
 
 std::optional<Pose2d> Slam::OdometryAt(int64_t utime) const {
@@ -189,7 +208,14 @@ std::optional<Pose2d> Slam::OdometryAt(int64_t utime) const {
     return odometry_.front().pose;
   }
   const Odometry& before = *std::prev(after);
-  if (after == odometry_.end() || before.utime == utime) return before.pose;
+  if (after == odometry_.end()) {
+    // Newer than every sample: the latest pose, unless the odometry has gone quiet.
+    if (utime - before.utime > std::llround(options_.input.max_time_gap_s * 1e6)) {
+      return std::nullopt;
+    }
+    return before.pose;
+  }
+  if (before.utime == utime) return before.pose;
   const double fraction =
       static_cast<double>(utime - before.utime) / static_cast<double>(after->utime - before.utime);
   return Interpolate(before.pose, after->pose, fraction);
@@ -205,9 +231,11 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
     Drop(DropReason::kScanMalformed);
     return update;
   }
-  if (scan.utime <= last_scan_utime_) {
-    Drop(DropReason::kScanTimeBackwards);
-    return update;
+  switch (scan_clock_.Offer(scan.utime)) {
+    case StreamClock::Verdict::kBackwards: Drop(DropReason::kScanTimeBackwards); return update;
+    case StreamClock::Verdict::kJump: Drop(DropReason::kScanTimeJump); return update;
+    case StreamClock::Verdict::kResynced: ++counters_.scan_clock_resyncs; break;
+    case StreamClock::Verdict::kInLine: break;
   }
   const std::optional<Pose2d> odom_pose = OdometryAt(scan.utime);
   if (!odom_pose) {
@@ -226,7 +254,6 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
     Drop(DropReason::kScanTooFewPoints);
     return update;
   }
-  last_scan_utime_ = scan.utime;
   ++counters_.scans_processed;
   update.accepted = true;
 

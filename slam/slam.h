@@ -21,6 +21,7 @@
 #include "common/occupancy_grid.h"
 #include "common/pose_graph.h"
 #include "common/sensor_types.h"
+#include "common/stream_clock.h"
 #include "slam/occupancy_mapper.h"
 #include "slam/pose_graph_optimizer.h"
 #include "slam/scan_matcher.h"
@@ -31,10 +32,12 @@ namespace aslam {
 // Why an input was dropped (the counters are indexed by this).
 enum class DropReason : int {
   kOdometryTimeBackwards = 0,  // utime not after the previous odometry
+  kOdometryTimeJump,           // utime more than input.max_time_gap_s after the previous
   kOdometryJump,               // faster than the physical bound since the previous message
   kOdometryNotFinite,
   kScanTimeBackwards,   // utime not after the previous scan
-  kScanBeforeOdometry,  // no odometry yet to place it
+  kScanTimeJump,        // utime more than input.max_time_gap_s after the previous scan
+  kScanBeforeOdometry,  // no odometry at its time to place it (none yet, or none recent)
   kScanTooFewPoints,    // fewer than min_valid_points valid returns
   kScanMalformed,       // bad geometry (non-finite angles, non-positive increment...)
   kCount
@@ -47,7 +50,10 @@ struct SlamCounters {
   int64_t scans_processed = 0;
   // Beams with NaN, inf or negative ranges: ignored (like no return), the scan kept.
   int64_t invalid_beams = 0;
-  int64_t odometry_rebases = 0;      // a jump followed by a consistent stream: odometry was reset
+  // Out-of-line messages (input.resync_messages) that started a new stream: the odometry
+  // was reset or its clock stepped. The held-back messages count as dropped when they came.
+  int64_t odometry_rebases = 0;
+  int64_t scan_clock_resyncs = 0;
   int64_t matches_low_response = 0;  // sequential edges that fell back to odometry
   int64_t keyframes_not_mapped = 0;  // explained by the map: graph only (map_thinning)
   int64_t loop_closures_accepted = 0;
@@ -116,6 +122,7 @@ class Slam {
   };
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
+  void AcceptOdometry(const Odometry& raw);
   void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                    std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
   // True when map_thinning keeps `keyframe`, at `pose`, out of the map.
@@ -151,8 +158,8 @@ class Slam {
   std::deque<Odometry> odometry_;  // corrected, oldest first
   Pose2d odometry_correction_;     // corrected = correction ⊕ raw
   std::optional<Odometry> last_raw_odometry_;
-  std::optional<Odometry> jump_candidate_;  // a raw message rejected as a jump
-  int64_t last_scan_utime_ = -1;
+  std::vector<Odometry> odometry_candidates_;  // held back: out of line with the stream
+  StreamClock scan_clock_;
 
   std::optional<StampedPose> latest_pose_;
   Eigen::Matrix3d latest_covariance_ = Eigen::Matrix3d::Identity();

@@ -85,6 +85,8 @@ void LoadInput(const ConfigReader& c, InputOptions* o) {
   c.ReadInRange("max_linear_speed_mps", &o->max_linear_speed_mps, 0.01, 100.0);
   c.ReadInRange("max_angular_speed_radps", &o->max_angular_speed_radps, 0.01, 100.0);
   c.ReadInRange("odometry_buffer_s", &o->odometry_buffer_s, 0.1, 3600.0);
+  c.ReadInRange("max_time_gap_s", &o->max_time_gap_s, 0.05, 3600.0);
+  c.ReadInRange("resync_messages", &o->resync_messages, 2, 100);
 }
 
 void LoadNode(const ConfigReader& c, SlamNodeOptions* o) {

@@ -79,6 +79,8 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.input.max_linear_speed_mps, y.input.max_linear_speed_mps);
   EXPECT_EQ(x.input.max_angular_speed_radps, y.input.max_angular_speed_radps);
   EXPECT_EQ(x.input.odometry_buffer_s, y.input.odometry_buffer_s);
+  EXPECT_EQ(x.input.max_time_gap_s, y.input.max_time_gap_s);
+  EXPECT_EQ(x.input.resync_messages, y.input.resync_messages);
 
   EXPECT_EQ(a.node.map_period_s, b.node.map_period_s);
 }
@@ -122,7 +124,8 @@ struct MapperFields {
 };
 struct InputFields {
   int i0;
-  double d[3];
+  double d[4];
+  int i1;
 };
 static_assert(sizeof(KeyframeOptions) == sizeof(KeyframeFields));
 static_assert(sizeof(MapThinningOptions) == sizeof(MapThinningFields));
@@ -212,6 +215,8 @@ slam:
     max_linear_speed_mps: 2.0
     max_angular_speed_radps: 6.0
     odometry_buffer_s: 4.0
+    max_time_gap_s: 2.5
+    resync_messages: 5
   node: {map_period_s: 2.0}
 )",
                                                                "slam"));
@@ -268,6 +273,8 @@ slam:
   EXPECT_EQ(o.input.max_linear_speed_mps, 2.0);
   EXPECT_EQ(o.input.max_angular_speed_radps, 6.0);
   EXPECT_EQ(o.input.odometry_buffer_s, 4.0);
+  EXPECT_EQ(o.input.max_time_gap_s, 2.5);
+  EXPECT_EQ(o.input.resync_messages, 5);
   EXPECT_EQ(c.node.map_period_s, 2.0);
 }
 

@@ -90,7 +90,8 @@ std::string SlamNode::CountersReport() const {
       << c.loop_closures_removed << " removed after optimization); " << c.optimizations
       << " optimizations; " << c.matches_low_response << " low-response matches; "
       << c.keyframes_not_mapped << " keyframes explained by the map (graph only); "
-      << c.odometry_rebases << " odometry rebases\n"
+      << c.odometry_rebases << " odometry rebases; " << c.scan_clock_resyncs
+      << " scan clock resyncs\n"
       << "published: " << poses_published_ << " poses, " << graphs_published_ << " graphs, "
       << maps_published_ << " maps\n"
       << "dropped by slam: " << c.dropped_total();

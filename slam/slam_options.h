@@ -3,6 +3,7 @@
 // Every option of the SLAM component in one struct (docs/architecture.md §7), loaded from
 // the `slam:` config section by slam_config.h.
 
+#include "common/stream_clock.h"
 #include "slam/occupancy_mapper.h"
 #include "slam/pose_graph_optimizer.h"
 #include "slam/scan_matcher.h"
@@ -61,6 +62,12 @@ struct InputOptions {
   double max_linear_speed_mps = 3.0;  // odometry faster than this between messages is a jump
   double max_angular_speed_radps = 8.0;
   double odometry_buffer_s = 5.0;  // odometry kept to look up the pose at a scan's time
+  // A message later than this after the previous one of its stream is a time jump.
+  double max_time_gap_s = kDefaultMaxTimeGapS;
+  // A message out of line with its stream (time backwards, a time jump, odometry faster than
+  // the bounds above) is held back; this many in a row that agree with one another start a
+  // new stream, so one bad stamp is dropped and a real reset is followed.
+  int resync_messages = kDefaultResyncMessages;
 };
 
 struct SlamOptions {

@@ -207,13 +207,14 @@ TEST(Slam, BadInputIsDroppedAndCountedByReason) {
 
   // NaN, inf and negative beams are ignored, the scan kept.
   LidarScan dirty = scan;
+  dirty.utime += 1;  // the scan dropped above set the scan clock
   dirty.range_m[0] = std::numeric_limits<float>::quiet_NaN();
   dirty.range_m[1] = std::numeric_limits<float>::infinity();
   dirty.range_m[2] = -1.0f;
   EXPECT_TRUE(slam.AddScan(dirty).accepted);
   EXPECT_EQ(slam.counters().invalid_beams, 3);
 
-  LidarScan same_time = scan;
+  LidarScan same_time = dirty;
   EXPECT_FALSE(slam.AddScan(same_time).accepted);
   EXPECT_EQ(Dropped(slam, DropReason::kScanTimeBackwards), 1);
 
@@ -266,6 +267,81 @@ TEST(Slam, OdometryResetIsRebasedSoThePoseDoesNotJump) {
   EXPECT_NEAR(after.x_m, before.x_m, 1e-9);
   EXPECT_NEAR(after.y_m, before.y_m, 1e-9);
   EXPECT_NEAR(after.yaw_rad, before.yaw_rad, 1e-9);
+}
+
+// Drives straight on in the test world, optionally shifting every stamp by `offset_us`;
+// returns how many scans were accepted.
+int DriveOn(Slam* slam, SimulatedRun* run, int scans, int64_t offset_us = 0) {
+  int accepted = 0;
+  for (int i = 0; i < scans; ++i) {
+    auto [odometry, scan] = run->NextScan({0, 0.4, 0.0});
+    odometry.utime += offset_us;
+    scan.utime += offset_us;
+    slam->AddOdometry(odometry);
+    if (slam->AddScan(scan).accepted) ++accepted;
+  }
+  return accepted;
+}
+
+void ExpectNearTruth(const Slam& slam, const Pose2d& start_truth, const Pose2d& truth,
+                     double tolerance_m) {
+  const Pose2d truth_in_map = start_truth.Between(truth);
+  const Pose2d estimate = slam.latest_pose()->pose;
+  EXPECT_NEAR(estimate.x_m, truth_in_map.x_m, tolerance_m);
+  EXPECT_NEAR(estimate.y_m, truth_in_map.y_m, tolerance_m);
+}
+
+TEST(Slam, OneStampFarInTheFutureCostsOnlyThatMessage) {
+  Slam slam(SlamOptions{});
+  SimulatedRun run;
+  auto [first_odometry, first_scan] = run.NextScan({0, 0.0, 0.0});
+  const Pose2d start_truth = run.truth();
+  ASSERT_TRUE(slam.AddOdometry(first_odometry));
+  ASSERT_TRUE(slam.AddScan(first_scan).accepted);
+  ASSERT_EQ(DriveOn(&slam, &run, 10), 10);
+
+  auto [odometry, scan] = run.NextScan({0, 0.4, 0.0});
+  Odometry future_odometry = odometry;
+  future_odometry.utime += 1000000000;  // 1000 s ahead
+  LidarScan future_scan = scan;
+  future_scan.utime += 1000000000;
+  EXPECT_FALSE(slam.AddOdometry(future_odometry));
+  EXPECT_FALSE(slam.AddScan(future_scan).accepted);
+  EXPECT_EQ(Dropped(slam, DropReason::kOdometryTimeJump), 1);
+  EXPECT_EQ(Dropped(slam, DropReason::kScanTimeJump), 1);
+
+  // Every message after the bad stamps is used: the robot goes on being mapped.
+  const std::size_t keyframes_before = slam.graph().nodes.size();
+  EXPECT_TRUE(slam.AddOdometry(odometry));
+  EXPECT_TRUE(slam.AddScan(scan).accepted);
+  EXPECT_EQ(DriveOn(&slam, &run, 40), 40);
+  EXPECT_EQ(slam.counters().dropped_total(), 2);
+  EXPECT_GE(slam.graph().nodes.size(), keyframes_before + 4);
+  ExpectNearTruth(slam, start_truth, run.truth(), 0.05);
+}
+
+TEST(Slam, ClockSteppedBackIsFollowedAfterAFewMessages) {
+  SlamOptions options;
+  Slam slam(options);
+  SimulatedRun run;
+  auto [first_odometry, first_scan] = run.NextScan({0, 0.0, 0.0});
+  const Pose2d start_truth = run.truth();
+  ASSERT_TRUE(slam.AddOdometry(first_odometry));
+  ASSERT_TRUE(slam.AddScan(first_scan).accepted);
+  ASSERT_EQ(DriveOn(&slam, &run, 10), 10);
+  const std::size_t keyframes_before = slam.graph().nodes.size();
+
+  // Both clocks step 1000 s back (a host clock reset) and carry on from there.
+  const int accepted = DriveOn(&slam, &run, 40, -1000000000);
+  const int held_back = options.input.resync_messages - 1;
+  EXPECT_EQ(Dropped(slam, DropReason::kOdometryTimeBackwards), held_back);
+  EXPECT_EQ(Dropped(slam, DropReason::kScanTimeBackwards), held_back);
+  EXPECT_EQ(slam.counters().odometry_rebases, 1);
+  EXPECT_EQ(slam.counters().scan_clock_resyncs, 1);
+  EXPECT_EQ(accepted, 40 - held_back);
+  EXPECT_GE(slam.graph().nodes.size(), keyframes_before + 4);
+  // The rebase hides the motion across the step; scan matching takes it back.
+  ExpectNearTruth(slam, start_truth, run.truth(), 0.05);
 }
 
 // A full lap of the ring corridor: the start is revisited, a loop closure is

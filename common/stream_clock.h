@@ -1,0 +1,64 @@
+#pragma once
+
+// The clock of one message stream (a sensor's stamps): stamps must move forward by at
+// most a gap. A stamp out of line (not later, or a jump) is held back, so one bad stamp
+// costs only its message; `resync_messages` out-of-line stamps in a row that follow one
+// another restart the clock from them, so a real clock step is followed.
+
+#include <cstdint>
+
+namespace aslam {
+
+// Defaults for sensor streams: a gap longer than any lidar's or base's period, and enough
+// agreeing messages that one or two bad stamps never restart the clock.
+constexpr double kDefaultMaxTimeGapS = 1.0;
+constexpr int kDefaultResyncMessages = 3;
+
+class StreamClock {
+ public:
+  enum class Verdict {
+    kInLine,     // accepted: follows the clock
+    kResynced,   // accepted: the last of the out-of-line stamps that restart the clock
+    kBackwards,  // held back: not after the clock
+    kJump,       // held back: later than the clock by more than the gap
+  };
+
+  StreamClock(int64_t max_gap_us, int resync_messages)
+      : max_gap_us_(max_gap_us), resync_messages_(resync_messages) {}
+
+  Verdict Offer(int64_t utime) {
+    if (!started_ || Follows(now_utime_, utime)) return Accept(utime, Verdict::kInLine);
+    if (held_back_ == 0 || !Follows(last_held_utime_, utime)) held_back_ = 0;
+    ++held_back_;
+    last_held_utime_ = utime;
+    if (held_back_ >= resync_messages_) return Accept(utime, Verdict::kResynced);
+    return utime <= now_utime_ ? Verdict::kBackwards : Verdict::kJump;
+  }
+  static bool Accepted(Verdict verdict) {
+    return verdict == Verdict::kInLine || verdict == Verdict::kResynced;
+  }
+
+  bool started() const { return started_; }
+  int64_t now_utime() const { return now_utime_; }  // the latest accepted stamp
+  int64_t resyncs() const { return resyncs_; }
+
+ private:
+  bool Follows(int64_t from, int64_t to) const { return to > from && to - from <= max_gap_us_; }
+  Verdict Accept(int64_t utime, Verdict verdict) {
+    if (verdict == Verdict::kResynced) ++resyncs_;
+    started_ = true;
+    now_utime_ = utime;
+    held_back_ = 0;
+    return verdict;
+  }
+
+  int64_t max_gap_us_;
+  int resync_messages_;
+  bool started_ = false;
+  int64_t now_utime_ = 0;
+  int held_back_ = 0;
+  int64_t last_held_utime_ = 0;
+  int64_t resyncs_ = 0;
+};
+
+}  // namespace aslam
