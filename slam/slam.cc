@@ -141,6 +141,54 @@ Slam::Slam(SlamOptions options)
       scan_clock_(std::llround(options_.input.max_time_gap_s * 1e6),
                   options_.input.resync_messages) {}
 
+void Slam::Restore(SlamSnapshot snapshot) {
+  if (!keyframes_.empty() || counters_.odometry_received > 0 || counters_.scans_received > 0) {
+    throw std::invalid_argument("Slam::Restore: only before any input");
+  }
+  const std::size_t n = snapshot.keyframes.size();
+  if (snapshot.graph.nodes.size() != n) {
+    throw std::invalid_argument("journal: " + std::to_string(n) + " keyframes but " +
+                                std::to_string(snapshot.graph.nodes.size()) + " graph nodes");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (snapshot.keyframes[i].id != static_cast<int>(i) ||
+        snapshot.graph.nodes[i].id != static_cast<int>(i)) {
+      throw std::invalid_argument("journal: keyframe " + std::to_string(i) + " has id " +
+                                  std::to_string(snapshot.keyframes[i].id) + ": ids must run 0..");
+    }
+    if (!IsFinite(snapshot.graph.nodes[i].pose)) {
+      throw std::invalid_argument("journal: keyframe " + std::to_string(i) + " pose not finite");
+    }
+  }
+  for (const PoseGraphEdge& e : snapshot.graph.edges) {
+    if (e.from_id < 0 || e.to_id < 0 || e.from_id >= static_cast<int>(n) ||
+        e.to_id >= static_cast<int>(n)) {
+      throw std::invalid_argument("journal: an edge " + std::to_string(e.from_id) + " -> " +
+                                  std::to_string(e.to_id) + " names a missing keyframe");
+    }
+  }
+  graph_ = std::move(snapshot.graph);
+  for (KeyframeRecord& record : snapshot.keyframes) {
+    const Pose2d& pose = graph_.nodes[record.id].pose;
+    auto points = std::make_shared<PointCloud2d>(
+        ScanToPoints(record.scan, options_.front_end.point_spacing_m));
+    const double reach_m = BeamReachM(record.scan, options_.mapper.no_return_clear_m);
+    keyframes_.push_back(Keyframe{record.utime, record.odom_pose, std::move(points),
+                                  std::move(record.scan), pose, std::nullopt, reach_m,
+                                  record.in_map});
+    Keyframe& keyframe = keyframes_.back();
+    if (keyframe.in_map) keyframe.footprint = mapper_.InsertScan(pose, keyframe.scan);
+  }
+  const SlamState& state = snapshot.state;
+  counters_ = state.counters;
+  last_closure_attempt_node_ = state.last_closure_attempt_node;
+  last_mapped_odom_pose_ = state.last_mapped_odom_pose;
+  odometry_correction_ = state.odometry_correction;
+  resumed_ = n > 0;
+  ++graph_revision_;
+  ++map_revision_;
+}
+
 bool Slam::AddOdometry(const Odometry& raw) {
   if (!IsFinite(raw.pose)) {
     Drop(DropReason::kOdometryNotFinite);
@@ -157,6 +205,21 @@ bool Slam::AddOdometry(const Odometry& raw) {
     return Norm(delta) <= in.max_linear_speed_mps * dt_us * 1e-6 + 0.05 &&
            std::abs(delta.yaw_rad) <= in.max_angular_speed_radps * dt_us * 1e-6 + 0.05;
   };
+  if (resumed_ && !last_raw_odometry_) {
+    // The first odometry after a restore: the robot stood still while SLAM was down (the
+    // navigator stops without poses), so motion since the last keyframe beyond the bounds,
+    // over however long the gap, means the odometry itself restarted: rebase onto it.
+    const Keyframe& last = keyframes_.back();
+    const double dt_s = std::max<int64_t>(raw.utime - last.utime, 0) * 1e-6;
+    const Pose2d delta = last.odom_pose.Between(odometry_correction_.Compose(raw.pose));
+    if (Norm(delta) > in.max_linear_speed_mps * dt_s + 0.05 ||
+        std::abs(delta.yaw_rad) > in.max_angular_speed_radps * dt_s + 0.05) {
+      odometry_correction_ = last.odom_pose.Compose(raw.pose.Inverse());
+      ++counters_.odometry_rebases;
+    }
+    AcceptOdometry(raw);
+    return true;
+  }
   if (!last_raw_odometry_ || follows(*last_raw_odometry_, raw)) {
     odometry_candidates_.clear();
     AcceptOdometry(raw);
@@ -301,6 +364,7 @@ Eigen::Matrix3d Slam::EdgeInformation(const Pose2d& from_pose,
 void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                        std::shared_ptr<const PointCloud2d> points, ScanUpdate* update) {
   const int id = static_cast<int>(keyframes_.size());
+  std::optional<PoseGraphEdge> sequential_edge;
   Pose2d pose;  // the first keyframe anchors "map"
   if (id > 0) {
     const Pose2d& previous_pose = graph_.nodes.back().pose;
@@ -334,6 +398,7 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
     pose.yaw_rad = WrapAngle(pose.yaw_rad);
     edge.measurement = previous_pose.Between(pose);
     graph_.edges.push_back(edge);
+    sequential_edge = edge;
   }
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
   keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose, std::nullopt,
@@ -351,8 +416,23 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
   ++graph_revision_;
   update->keyframe_added = true;
   update->graph_changed = true;
+  if (journal_) {
+    journal_->OnKeyframe(KeyframeRecord{id, scan.utime, odom_pose, pose, keyframe.in_map, scan},
+                         sequential_edge);
+  }
 
   TryLoopClosure(id, update);
+  if (journal_) journal_->OnState(State());
+}
+
+SlamState Slam::State() const {
+  return SlamState{counters_, last_closure_attempt_node_, last_mapped_odom_pose_,
+                   odometry_correction_};
+}
+
+void Slam::EraseEdge(std::size_t index) {
+  if (journal_) journal_->OnEdgeRemoved(graph_.edges[index]);
+  graph_.edges.erase(graph_.edges.begin() + index);
 }
 
 bool Slam::MapExplains(const Keyframe& keyframe, const Pose2d& pose) const {
@@ -407,6 +487,7 @@ void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
   edge.measurement = candidate_pose.Between(match.refined_pose);
   edge.information = EdgeInformation(candidate_pose, match.covariance);
   graph_.edges.push_back(edge);
+  if (journal_) journal_->OnLoopClosureAdded(edge);
   if (OptimizeAndCheck(graph_.edges.size() - 1, update)) {
     ++counters_.loop_closures_accepted;
     ++update->loop_closures_accepted;
@@ -451,7 +532,7 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
     update->graph_optimized = true;
     if (!summary.usable) {
       restore();
-      if (new_edge_alive) graph_.edges.erase(graph_.edges.begin() + new_edge);
+      if (new_edge_alive) EraseEdge(new_edge);
       new_edge_alive = false;
       break;
     }
@@ -466,7 +547,7 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
       }
     }
     if (worst == graph_.edges.size() || removals == 3) break;
-    graph_.edges.erase(graph_.edges.begin() + worst);
+    EraseEdge(worst);
     ++counters_.loop_closures_removed;
     if (new_edge_alive && worst == new_edge) {
       new_edge_alive = false;
@@ -480,6 +561,7 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
   }
   ++graph_revision_;
   update->graph_changed = true;
+  if (journal_) journal_->OnOptimized(graph_.nodes);
   return new_edge_alive;
 }
 

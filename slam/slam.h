@@ -65,6 +65,45 @@ struct SlamCounters {
   int64_t dropped_total() const;
 };
 
+// A keyframe as the journal keeps it: enough to rebuild it without matching again.
+struct KeyframeRecord {
+  int id = 0;
+  int64_t utime = 0;
+  Pose2d odom_pose;  // odometry at the scan (rebased stream, see SlamState)
+  Pose2d pose;       // in "map" when it was added (later optimizations move it)
+  bool in_map = false;
+  LidarScan scan;
+};
+
+// What the front end carries besides the graph and the keyframes.
+struct SlamState {
+  SlamCounters counters;
+  int last_closure_attempt_node = -1000000;
+  std::optional<Pose2d> last_mapped_odom_pose;
+  Pose2d odometry_correction;  // rebased odometry = correction ⊕ raw
+};
+
+// Everything a Slam is made of; Slam::Restore continues from it.
+struct SlamSnapshot {
+  std::vector<KeyframeRecord> keyframes;  // keyframes[i] is graph.nodes[i]
+  PoseGraph graph;
+  SlamState state;
+};
+
+// Told of every change of the graph as it happens (the journal, slam_journal.h).
+// Implementations must not throw: Slam is mid-update when it calls them.
+class SlamJournalSink {
+ public:
+  virtual ~SlamJournalSink() = default;
+  // `sequential_edge`: from the previous keyframe (none for the first).
+  virtual void OnKeyframe(const KeyframeRecord& keyframe,
+                          const std::optional<PoseGraphEdge>& sequential_edge) = 0;
+  virtual void OnLoopClosureAdded(const PoseGraphEdge& edge) = 0;
+  virtual void OnEdgeRemoved(const PoseGraphEdge& edge) = 0;
+  virtual void OnOptimized(const std::vector<PoseGraphNode>& nodes) = 0;
+  virtual void OnState(const SlamState& state) = 0;  // after each keyframe
+};
+
 // What one scan changed.
 struct ScanUpdate {
   bool accepted = false;  // false: dropped (see counters)
@@ -85,6 +124,13 @@ class Slam {
  public:
   // Aborts on invalid options: load them through slam_config.h, which validates.
   explicit Slam(SlamOptions options);
+
+  // Continues from `snapshot` (a journal read back): same keyframe ids, poses and "map"
+  // frame; the map is rendered from the keyframes. Only before any input; throws
+  // std::invalid_argument naming what is inconsistent.
+  void Restore(SlamSnapshot snapshot);
+  // Every later change of the graph goes to `sink` (not owned; nullptr: none).
+  void set_journal(SlamJournalSink* sink) { journal_ = sink; }
 
   // Returns false when the message is dropped (counted by reason).
   bool AddOdometry(const Odometry& odometry);
@@ -123,6 +169,9 @@ class Slam {
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
   void AcceptOdometry(const Odometry& raw);
+  SlamState State() const;
+  // Removes graph_.edges[index], telling the journal.
+  void EraseEdge(std::size_t index);
   void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
                    std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
   // True when map_thinning keeps `keyframe`, at `pose`, out of the map.
@@ -162,6 +211,9 @@ class Slam {
   StreamClock scan_clock_;
 
   std::optional<StampedPose> latest_pose_;
+  SlamJournalSink* journal_ = nullptr;
+  // Restored: the first odometry is checked against the last keyframe's, over any gap.
+  bool resumed_ = false;
   Eigen::Matrix3d latest_covariance_ = Eigen::Matrix3d::Identity();
   SlamCounters counters_;
 };
