@@ -91,6 +91,7 @@ void LoadInput(const ConfigReader& c, InputOptions* o) {
 
 void LoadNode(const ConfigReader& c, SlamNodeOptions* o) {
   c.ReadInRange("map_period_s", &o->map_period_s, 0.0, 3600.0);
+  c.ReadInRange("republish_period_s", &o->republish_period_s, 0.1, 3600.0);
 }
 
 // The library's own checks, reported against the file and section.

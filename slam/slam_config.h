@@ -16,6 +16,9 @@ struct SlamNodeOptions {
   // SLAM_MAP at most once per this many seconds of message time (plus after
   // every loop closure / re-render).
   double map_period_s = 1.0;
+  // SLAM_MAP and POSE_GRAPH again after this many seconds of message time without a change,
+  // so a node that restarted (or a viewer that joined) gets them without waiting for one.
+  double republish_period_s = 5.0;
 };
 
 struct SlamConfig {

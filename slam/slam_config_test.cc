@@ -83,6 +83,7 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.input.resync_messages, y.input.resync_messages);
 
   EXPECT_EQ(a.node.map_period_s, b.node.map_period_s);
+  EXPECT_EQ(a.node.republish_period_s, b.node.republish_period_s);
 }
 
 // Tripwire: a field added to an options struct changes its size (mostly), and
@@ -135,7 +136,7 @@ static_assert(sizeof(ScanMatcherOptions) == sizeof(ScanMatcherFields));
 static_assert(sizeof(PoseGraphOptimizerOptions) == sizeof(OptimizerFields));
 static_assert(sizeof(OccupancyMapperOptions) == sizeof(MapperFields));
 static_assert(sizeof(InputOptions) == sizeof(InputFields));
-static_assert(sizeof(SlamNodeOptions) == sizeof(double));
+static_assert(sizeof(SlamNodeOptions) == 2 * sizeof(double));
 
 TEST(SlamConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   const SlamConfig shipped = LoadSlamConfigFromFile(kShippedConfig);
@@ -217,7 +218,7 @@ slam:
     odometry_buffer_s: 4.0
     max_time_gap_s: 2.5
     resync_messages: 5
-  node: {map_period_s: 2.0}
+  node: {map_period_s: 2.0, republish_period_s: 7.5}
 )",
                                                                "slam"));
   const SlamOptions& o = c.slam;
@@ -276,6 +277,7 @@ slam:
   EXPECT_EQ(o.input.max_time_gap_s, 2.5);
   EXPECT_EQ(o.input.resync_messages, 5);
   EXPECT_EQ(c.node.map_period_s, 2.0);
+  EXPECT_EQ(c.node.republish_period_s, 7.5);
 }
 
 TEST(SlamConfig, BadValuesNameFileKeyAndValue) {

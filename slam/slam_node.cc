@@ -44,19 +44,48 @@ bool SlamNode::OnScan(const lidar_scan_t& msg) {
   lcm_.publish(channels::kSlamPose, &pose_msg);
   ++poses_published_;
 
-  if (update.graph_changed) {
-    const pose_graph_t graph_msg = SlamGraphToLcm(slam_, scan->utime);
-    lcm_.publish(channels::kPoseGraph, &graph_msg);
-    ++graphs_published_;
+  // A period passed since `since`; a clock that stepped back counts as one passing.
+  auto elapsed = [&](int64_t since, double period_s) {
+    return scan->utime < since || scan->utime - since >= std::llround(period_s * 1e6);
+  };
+  if (update.graph_changed || elapsed(last_graph_utime_, node_options_.republish_period_s)) {
+    PublishGraph(scan->utime);
   }
 
   const bool map_changed = slam_.map_revision() != published_map_revision_;
   // Consumers must see a closure's corrected map at once, not up to a period later.
   const bool urgent = update.map_invalidated;
-  const int64_t period_us = std::llround(node_options_.map_period_s * 1e6);
-  const bool due = maps_published_ == 0 || scan->utime - last_map_utime_ >= period_us;
-  if (map_changed && (urgent || due)) PublishMap(scan->utime);
+  const bool due = maps_published_ == 0 || elapsed(last_map_utime_, node_options_.map_period_s);
+  if ((map_changed && (urgent || due)) ||
+      elapsed(last_map_utime_, node_options_.republish_period_s)) {
+    PublishMap(scan->utime);
+  }
+  if (journal_) journal_->Commit(scan->utime);
   return true;
+}
+
+void SlamNode::Resume(SlamSnapshot snapshot) {
+  slam_.Restore(std::move(snapshot));
+  if (slam_.graph().nodes.empty()) return;
+  const PoseGraphNode& last = slam_.graph().nodes.back();
+  const pose_t pose_msg =
+      SlamPoseToLcm(StampedPose{last.utime, last.pose, 0.0, 0.0}, slam_.latest_covariance());
+  lcm_.publish(channels::kSlamPose, &pose_msg);
+  ++poses_published_;
+  PublishGraph(last.utime);
+  PublishMap(last.utime);
+}
+
+void SlamNode::set_journal(SlamJournalWriter* journal) {
+  journal_ = journal;
+  slam_.set_journal(journal);
+}
+
+void SlamNode::PublishGraph(int64_t utime) {
+  const pose_graph_t graph_msg = SlamGraphToLcm(slam_, utime);
+  lcm_.publish(channels::kPoseGraph, &graph_msg);
+  last_graph_utime_ = utime;
+  ++graphs_published_;
 }
 
 void SlamNode::PublishMap(int64_t utime) {

@@ -3,8 +3,10 @@
 // SLAM on LCM: subscribes ODOMETRY and LIDAR_SCAN; on every accepted scan
 // publishes SLAM_POSE, POSE_GRAPH when the graph changed, and SLAM_MAP when
 // the map changed, at most once per map_period_s of message time but at once
-// after a loop closure or re-render. The same node runs in the aslam-slam
-// process and in-process on memq:// (docs/architecture.md §4); it never reads the wall clock.
+// after a loop closure or re-render; both again after republish_period_s without a
+// change. With a journal, every graph change is appended to it after each scan. The same
+// node runs in the aslam-slam process and in-process on memq:// (docs/architecture.md §4);
+// it never reads the wall clock.
 
 #include <cstdint>
 #include <string>
@@ -16,6 +18,7 @@
 #include "common/lcm_util.h"
 #include "slam/slam.h"
 #include "slam/slam_config.h"
+#include "slam/slam_journal.h"
 
 namespace aslam {
 
@@ -23,6 +26,12 @@ class SlamNode {
  public:
   // Aborts on invalid options: load them through slam_config.h.
   SlamNode(lcm::LCM& lcm, SlamOptions options, SlamNodeOptions node_options = {});
+
+  // Continues from a journal read back (before any input), then publishes the map, the
+  // graph and the pose at once, stamped with the last keyframe's time.
+  void Resume(SlamSnapshot snapshot);
+  // Appends every later graph change to `journal` (not owned), committed after each scan.
+  void set_journal(SlamJournalWriter* journal);
 
   // Writes `dir`/map.yaml + map.pgm (ROS map_server format) and `dir`/graph.g2o,
   // creating `dir`. Before the first scan there is no map: only the graph is
@@ -43,6 +52,7 @@ class SlamNode {
   bool OnOdometry(const odometry_t& msg);
   bool OnScan(const lidar_scan_t& msg);
   void PublishMap(int64_t utime);
+  void PublishGraph(int64_t utime);
 
   lcm::LCM& lcm_;
   Slam slam_;
@@ -53,6 +63,8 @@ class SlamNode {
   double angular_velocity_radps_ = 0.0;
   int64_t published_map_revision_ = -1;
   int64_t last_map_utime_ = 0;
+  int64_t last_graph_utime_ = 0;
+  SlamJournalWriter* journal_ = nullptr;
   int64_t poses_published_ = 0;
   int64_t graphs_published_ = 0;
   int64_t maps_published_ = 0;

@@ -20,6 +20,7 @@
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_node.h"
 #include "slam/g2o_io.h"
+#include "slam/slam_journal.h"
 
 namespace aslam {
 namespace {
@@ -242,6 +243,88 @@ TEST_F(SlamNodeDrive, WriteOutputsWritesALoadableMapAndTheGraph) {
   const PoseGraph graph = ReadG2o(dir + "/graph.g2o");
   EXPECT_EQ(graph.nodes.size(), node.slam().graph().nodes.size());
   EXPECT_EQ(graph.edges.size(), node.slam().graph().edges.size());
+  std::filesystem::remove_all(dir);
+}
+
+// Counts what a node publishes on a memq bus.
+struct Published {
+  explicit Published(lcm::LCM& lcm) : listener(lcm) {
+    listener.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) {
+      poses.push_back(m);
+      return true;
+    });
+    listener.Add<pose_graph_t>(channels::kPoseGraph, [this](const pose_graph_t& m) {
+      graphs.push_back(m);
+      return true;
+    });
+    listener.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
+      maps.push_back(m);
+      return true;
+    });
+  }
+  Subscriptions listener;
+  std::vector<pose_t> poses;
+  std::vector<pose_graph_t> graphs;
+  std::vector<occupancy_grid_t> maps;
+};
+
+TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
+  InProcessHost host;
+  SlamNodeOptions node_options;
+  SlamNode node(host.lcm(), SlamOptions{}, node_options);
+  Published published(host.lcm());
+  Simulator sim(TestWorld().map.grid, TestWorld().start, SimulatorOptions{});
+  // 12 s parked: nothing changes after the first keyframe.
+  while (sim.utime() < 12'000'000) {
+    const SimStepOutput out = sim.Step();
+    if (out.odometry) {
+      const odometry_t msg = ToLcm(*out.odometry);
+      host.lcm().publish(channels::kOdometry, &msg);
+    }
+    if (out.scan) {
+      const lidar_scan_t msg = ToLcm(*out.scan);
+      host.lcm().publish(channels::kLidarScan, &msg);
+    }
+    host.DispatchPending();
+  }
+  ASSERT_EQ(node.slam().graph().nodes.size(), 1u);
+  // The first map, then one per republish period: a node that joins late gets them.
+  const int64_t period_us = static_cast<int64_t>(node_options.republish_period_s * 1e6);
+  ASSERT_EQ(published.maps.size(), 3u);
+  EXPECT_EQ(published.maps[1].utime - published.maps[0].utime, period_us);
+  EXPECT_EQ(published.maps[2].utime - published.maps[1].utime, period_us);
+  EXPECT_EQ(published.maps[2].revision, published.maps[0].revision);
+  EXPECT_EQ(published.graphs.size(), 3u);
+}
+
+TEST(SlamNode, AResumedNodeAnnouncesItsMapGraphAndPoseAtOnce) {
+  const std::string dir = std::filesystem::temp_directory_path() / "aslam_slam_node_resume";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/slam.journal";
+  std::size_t keyframes = 0;
+  {
+    Harness h;
+    SlamJournalWriter writer(path, 0);
+    h.mutable_node().set_journal(&writer);
+    h.RunFor(30.0);
+    keyframes = h.node().slam().graph().nodes.size();
+    h.mutable_node().set_journal(nullptr);
+    ASSERT_FALSE(writer.error());
+  }
+  InProcessHost host;
+  SlamNode node(host.lcm(), EveryClosureReRenders(), SlamNodeOptions{});
+  Published published(host.lcm());
+  node.Resume(ReadSlamJournal(path).snapshot);
+  host.DispatchPending();
+  ASSERT_EQ(published.poses.size(), 1u);
+  ASSERT_EQ(published.graphs.size(), 1u);
+  ASSERT_EQ(published.maps.size(), 1u);
+  EXPECT_GT(keyframes, 20u);
+  EXPECT_EQ(published.graphs[0].num_nodes, static_cast<int>(keyframes));
+  EXPECT_EQ(published.poses[0].frame, "map");
+  EXPECT_EQ(published.poses[0].utime, published.graphs[0].utime);
+  EXPECT_GT(published.maps[0].num_cells, 1000);
   std::filesystem::remove_all(dir);
 }
 
