@@ -116,6 +116,41 @@ ExploreActions ExplorationManager::OnDecision(const GoalDecision& decision) {
   return actions;
 }
 
+bool ExplorationRecord::operator==(const ExplorationRecord& o) const {
+  if (decisions != o.decisions || goals_reached != o.goals_reached ||
+      goals_failed != o.goals_failed || next_goal_id != o.next_goal_id ||
+      blacklist_m.size() != o.blacklist_m.size()) {
+    return false;
+  }
+  for (std::size_t i = 0; i < blacklist_m.size(); ++i) {
+    if (blacklist_m[i].x_m != o.blacklist_m[i].x_m || blacklist_m[i].y_m != o.blacklist_m[i].y_m) {
+      return false;
+    }
+  }
+  return true;
+}
+
+ExplorationRecord ExplorationManager::record() const {
+  return ExplorationRecord{decisions_, goals_reached_, goals_failed_, next_goal_id_, blacklist_m_};
+}
+
+void ExplorationManager::Restore(const ExplorationRecord& record) {
+  if (record.decisions < 0 || record.goals_reached < 0 || record.goals_failed < 0 ||
+      record.next_goal_id < 0) {
+    throw std::invalid_argument("exploration record: counts and goal ids must be >= 0");
+  }
+  for (const Point2d& p : record.blacklist_m) {
+    if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m)) {
+      throw std::invalid_argument("exploration record: a blacklist point is not finite");
+    }
+  }
+  decisions_ = record.decisions;
+  goals_reached_ = record.goals_reached;
+  goals_failed_ = record.goals_failed;
+  next_goal_id_ = record.next_goal_id;
+  blacklist_m_ = record.blacklist_m;
+}
+
 ExploreActions ExplorationManager::AfterInput(int64_t utime) {
   latest_utime_ = std::max(latest_utime_, utime);
   ExploreActions actions;

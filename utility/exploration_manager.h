@@ -75,6 +75,18 @@ struct ExploreActions {
   std::optional<ExploreStatus> status;
 };
 
+// What an exploration has done so far, kept across a restart of the utility process:
+// the counters, the next goal id (so a new goal never reuses one the navigator knows)
+// and the blacklist.
+struct ExplorationRecord {
+  int decisions = 0;
+  int goals_reached = 0;
+  int goals_failed = 0;
+  int64_t next_goal_id = 0;
+  std::vector<Point2d> blacklist_m;
+  bool operator==(const ExplorationRecord& other) const;
+};
+
 class ExplorationManager {
  public:
   // Throws std::invalid_argument for invalid options.
@@ -98,6 +110,11 @@ class ExplorationManager {
   const std::vector<Frontier>& frontiers() const { return frontiers_->frontiers; }
   // Targets of reached and failed goals ("map"); never shrinks.
   const std::vector<Point2d>& blacklist_m() const { return blacklist_m_; }
+
+  ExplorationRecord record() const;
+  // Continues the counters, goal ids and blacklist of an earlier run (before any input).
+  // Throws std::invalid_argument for negative counts or a non-finite blacklist point.
+  void Restore(const ExplorationRecord& record);
 
   int decisions() const { return decisions_; }
   int goals_reached() const { return goals_reached_; }

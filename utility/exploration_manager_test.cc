@@ -242,6 +242,42 @@ TEST(ExplorationManager, ReachedFailedAndUnreachableBlacklistCountAndDecide) {
   EXPECT_FALSE(m.OnNavStatus(Nav(5'500'000, 2, NavState::kIdle)).decision.has_value());
 }
 
+TEST(ExplorationManager, ARestoredRecordCarriesOnCountersIdsAndBlacklist) {
+  ExplorationManager before = Manager();
+  FirstGoal(before);
+  before.OnNavStatus(Nav(3 * kSecond, 0, NavState::kReached));
+  before.OnDecision(Chose(9, kFar));
+  before.OnNavStatus(Nav(4 * kSecond, 1, NavState::kFailed));
+  const ExplorationRecord record = before.record();
+  EXPECT_EQ(record.decisions, 2);
+  EXPECT_EQ(record.goals_reached, 1);
+  EXPECT_EQ(record.goals_failed, 1);
+  EXPECT_EQ(record.next_goal_id, 2);
+  ASSERT_EQ(record.blacklist_m.size(), 2u);
+
+  // A restarted utility: the same record, and the next goal gets the next id.
+  ExplorationManager after = Manager();
+  after.Restore(record);
+  EXPECT_TRUE(after.record() == record);
+  MapAndPose(after, 10 * kSecond);
+  ASSERT_TRUE(after.OnFrontiers(Frontiers(10 * kSecond, {12})).decision.has_value());
+  const ExploreActions goal = after.OnDecision(Chose(12, {3.0, 3.0}));
+  ASSERT_TRUE(goal.goal.has_value());
+  EXPECT_EQ(goal.goal->goal_id, 2);
+  ASSERT_TRUE(goal.status.has_value());
+  EXPECT_EQ(goal.status->decisions, 3);
+  EXPECT_EQ(goal.status->goals_reached, 1);
+  EXPECT_EQ(goal.status->goals_failed, 1);
+  EXPECT_EQ(after.blacklist_m().size(), 2u);
+
+  ExplorationRecord bad = record;
+  bad.goals_failed = -1;
+  EXPECT_THROW(Manager().Restore(bad), std::invalid_argument);
+  bad = record;
+  bad.blacklist_m.push_back({std::numeric_limits<double>::quiet_NaN(), 0.0});
+  EXPECT_THROW(Manager().Restore(bad), std::invalid_argument);
+}
+
 TEST(ExplorationManager, GoalIdsContinueAfterTheNavigatorsLastId) {
   ExplorationManager m = Manager();
   m.OnNavStatus(Nav(50'000, 41, NavState::kReached));  // left over from an earlier run
