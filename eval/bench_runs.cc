@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <list>
 #include <set>
 #include <stdexcept>
@@ -273,12 +272,6 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
   }
   summary.wall_seconds = Since(start);
   return summary;
-}
-
-void WriteBenchFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace aslam
