@@ -17,6 +17,7 @@
 
 #include "common/subprocess.h"
 #include "common/text_format.h"
+#include "eval/explore_runner.h"
 #include "utility/utility_config.h"
 
 namespace aslam {
@@ -123,7 +124,7 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options) {
       throw std::invalid_argument("--methods: '" + method + "': expected fd, ags or ours");
   }
   if (options.seeds < 1) throw std::invalid_argument("--seeds must be >= 1");
-  if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  CheckDuration(options.duration_s);
   if (options.jobs < 1) throw std::invalid_argument("--jobs must be >= 1");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
   std::set<std::string> labels;

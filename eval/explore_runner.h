@@ -83,6 +83,10 @@ struct CostSample {
   NodeCpu cpu;          // cumulative
 };
 
+// Throws std::invalid_argument naming --duration and its value unless it is a finite number
+// of simulated seconds > 0: inf would never end a run, NaN would end it at once.
+void CheckDuration(double duration_s);
+
 // Simulated seconds per CPU second between the first sample at or after
 // `from_s` and the last at or before `to_s`; nullopt when they do not span time.
 std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost, double from_s,
