@@ -12,26 +12,14 @@ if ! unshare -rn true 2>/dev/null; then
   echo "skipped: unshare -rn is not permitted here"
   exit 77
 fi
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-failures=0
-passes=0
-check() {  # check NAME COMMAND...: runs the command, counts a pass or a failure
-  local name="$1"
-  shift
-  if "$@"; then
-    echo "ok: $name"
-    passes=$((passes + 1))
-  else
-    echo "FAILED: $name"
-    failures=$((failures + 1))
-  fi
-}
+# The namespaces are this test's subject: it makes them itself.
+port_base=8400
+stay_in_this_namespace=1
+source "$src/tests/process_test_lib.sh"
 
 # COMMAND... in a fresh network namespace without any route (loopback down, no multicast).
 without_route() { unshare -rn "$@"; }
 
-url="udpm://239.255.76.67:$((8400 + $$ % 100))?ttl=0"
 check "no multicast route in the namespace" without_route sh -c '! ip route get 239.255.76.67 2>/dev/null'
 cannot_open_lcm() { ! without_route "$build/tools/aslam-monitor" --lcm-url "$url" --duration 0.1; }
 check "... so LCM's udpm cannot open there" cannot_open_lcm

@@ -1,9 +1,11 @@
 # Sourced by the *_process_test.sh scripts after they set `src`, `build` and
 # `port_base`: re-runs the script in a private network namespace when user
-# namespaces allow (else it stays on a port of its own with ttl=0), and
-# provides `url`, `out` (a temporary folder), `check` and `heard`.
+# namespaces allow (else it stays on a port of its own with ttl=0; and so when
+# the script set `stay_in_this_namespace=1`), and provides `url`, `out` (a
+# temporary folder), `check` and `heard`.
 
-if [[ -z "${ASLAM_IN_NETNS:-}" ]] && unshare -rn true 2>/dev/null; then
+if [[ -z "${ASLAM_IN_NETNS:-}" && -z "${stay_in_this_namespace:-}" ]] &&
+  unshare -rn true 2>/dev/null; then
   ASLAM_IN_NETNS=1 exec "$src/scripts/in-private-netns" "$0" "$@"
 fi
 
