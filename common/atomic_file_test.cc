@@ -64,7 +64,7 @@ TEST(WriteFileAtomicallyTest, WritesAndReplacesLeavingNoTemporaryFile) {
   WriteFileAtomically(path, std::string("short\0binary", 12));
   EXPECT_EQ(ReadAll(path), std::string("short\0binary", 12));
   EXPECT_EQ(Entries(folder), std::vector<std::string>{"metrics.json"});
-  struct stat info{};
+  struct stat info {};
   ASSERT_EQ(stat(path.c_str(), &info), 0);
   EXPECT_EQ(info.st_mode & 0777, 0644u);
 }
@@ -106,8 +106,7 @@ TEST(WriteFileAtomicallyTest, FailedWriteKeepsTheOldContent) {
   small.rlim_cur = 4096;
   const sighandler_t old_handler = signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of a signal
   ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
-  const std::string error =
-      ErrorOf([&] { WriteFileAtomically(path, std::string(1 << 20, 'n')); });
+  const std::string error = ErrorOf([&] { WriteFileAtomically(path, std::string(1 << 20, 'n')); });
   ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &before), 0);
   signal(SIGXFSZ, old_handler);
 

@@ -18,10 +18,10 @@ void ProcessHistoryTracker::Add(const DeputyStatus& status) {
     ProcessHistory& h = *found;
     // Stopping and stopped are the deputy's own doing; these states follow an end on its own
     // (running again with more restarts: the backoff status in between was missed).
-    const bool ended_on_its_own =
-        p.state == ProcessState::kBackoff || p.state == ProcessState::kFailed ||
-        p.state == ProcessState::kExited ||
-        (p.state == ProcessState::kRunning && p.restarts > h.restarts);
+    const bool ended_on_its_own = p.state == ProcessState::kBackoff ||
+                                  p.state == ProcessState::kFailed ||
+                                  p.state == ProcessState::kExited ||
+                                  (p.state == ProcessState::kRunning && p.restarts > h.restarts);
     if (ended_on_its_own) {
       h.last_exit_code.reset();
       h.last_signal.reset();
@@ -77,8 +77,7 @@ std::vector<std::pair<std::string, std::string>> ProcessHistoryJsonFields(
     const ProcessHistory& process) {
   return {
       {"restarts", std::to_string(process.restarts)},
-      {"last_exit_code",
-       process.last_exit_code ? std::to_string(*process.last_exit_code) : "null"},
+      {"last_exit_code", process.last_exit_code ? std::to_string(*process.last_exit_code) : "null"},
       {"last_signal", process.last_signal ? JsonString(SignalName(*process.last_signal)) : "null"},
   };
 }
