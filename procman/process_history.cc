@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 #include "common/json_text.h"
 
@@ -12,7 +13,9 @@ void ProcessHistoryTracker::Add(const DeputyStatus& status) {
     auto found = std::find_if(processes_.begin(), processes_.end(),
                               [&](const ProcessHistory& h) { return h.name == p.name; });
     if (found == processes_.end()) {
-      processes_.push_back(ProcessHistory{p.name});
+      ProcessHistory first_heard;
+      first_heard.name = p.name;
+      processes_.push_back(std::move(first_heard));
       found = processes_.end() - 1;
     }
     ProcessHistory& h = *found;
