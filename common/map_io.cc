@@ -6,11 +6,14 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <string_view>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+
+#include "common/atomic_file.h"
 
 namespace aslam {
 namespace {
@@ -240,6 +243,22 @@ LoadedMap LoadMap(const std::string& yaml_path) {
   return loaded;
 }
 
+void WriteImageAtomically(const std::string& path, const cv::Mat& image) {
+  std::vector<uint8_t> encoded;
+  try {
+    if (!cv::imencode(fs::path(path).extension().string(), image, encoded))
+      throw MapFileError(path + ": cannot encode image");
+  } catch (const cv::Exception& e) {
+    throw MapFileError(path + ": cannot encode image: " + e.what());
+  }
+  try {
+    WriteFileAtomically(
+        path, std::string_view(reinterpret_cast<const char*>(encoded.data()), encoded.size()));
+  } catch (const std::runtime_error& e) {
+    throw MapFileError(e.what());
+  }
+}
+
 void SaveMap(const OccupancyGrid& grid, const std::string& base_path, MapImageFormat format) {
   if (grid.empty()) throw MapFileError(base_path + ": cannot save an empty grid");
   const std::string image_path = base_path + (format == MapImageFormat::kPng ? ".png" : ".pgm");
@@ -254,13 +273,7 @@ void SaveMap(const OccupancyGrid& grid, const std::string& base_path, MapImageFo
   cv::Mat image;
   cv::flip(pixels_bottom_up, image, 0);
 
-  bool written = false;
-  try {
-    written = cv::imwrite(image_path, image);
-  } catch (const cv::Exception& e) {
-    throw MapFileError(image_path + ": cannot write image: " + e.what());
-  }
-  if (!written) throw MapFileError(image_path + ": cannot write image");
+  WriteImageAtomically(image_path, image);
 
   YAML::Emitter yaml;
   yaml << YAML::BeginMap;
@@ -275,10 +288,11 @@ void SaveMap(const OccupancyGrid& grid, const std::string& base_path, MapImageFo
   yaml << YAML::Key << "free_thresh" << YAML::Value << "0.196";
   yaml << YAML::EndMap;
 
-  std::ofstream out(yaml_path);
-  out << yaml.c_str() << "\n";
-  out.close();
-  if (!out) throw MapFileError(yaml_path + ": cannot write map file");
+  try {
+    WriteFileAtomically(yaml_path, std::string(yaml.c_str()) + "\n");
+  } catch (const std::runtime_error& e) {
+    throw MapFileError(e.what());
+  }
 }
 
 }  // namespace aslam

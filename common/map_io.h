@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <opencv2/core/mat.hpp>
+
 #include "common/occupancy_grid.h"
 
 namespace aslam {
@@ -53,9 +55,13 @@ enum class MapImageFormat { kPgm, kPng };
 // Writes `<base_path>.yaml` and `<base_path>.pgm|.png` the way map_saver
 // does (trinary: free 254, occupied 0, unknown 205; occupied_thresh 0.65,
 // free_thresh 0.196). Cells in 1..100 at or above 65 are written occupied,
-// at or below 19 free, others unknown. Throws MapFileError if a file cannot
-// be written.
+// at or below 19 free, others unknown. Each file is written atomically
+// (common/atomic_file.h). Throws MapFileError if a file cannot be written.
 void SaveMap(const OccupancyGrid& grid, const std::string& base_path,
              MapImageFormat format = MapImageFormat::kPgm);
+
+// Encodes `image` by `path`'s extension (.pgm, .png, ...) and writes it atomically
+// (common/atomic_file.h); throws MapFileError naming the path.
+void WriteImageAtomically(const std::string& path, const cv::Mat& image);
 
 }  // namespace aslam

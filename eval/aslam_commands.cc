@@ -7,9 +7,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -19,6 +19,7 @@
 
 #include <gflags/gflags.h>
 
+#include "common/atomic_file.h"
 #include "common/config.h"
 #include "common/flags.h"
 #include "common/pose2d.h"
@@ -42,6 +43,9 @@ DEFINE_string(out, "", "run folder to write (created)");
 DEFINE_string(lcm_url, "",
               "process mode: LCM URL of the run (default: "
               "udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304, PORT from the pid)");
+DEFINE_string(launch, "",
+              "process mode: aslam-procman launch config (default: config/launch/explore.yaml "
+              "of the source tree)");
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
 DEFINE_string(worlds, "office,campus",
               "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
@@ -57,7 +61,7 @@ namespace {
 
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
-    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--config FILE]\n"
+    "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--launch FILE] [--config FILE]\n"
     "              [--set KEY=VALUE ...] --out DIR\n"
     "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
     "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
@@ -69,10 +73,23 @@ constexpr const char* kUsage =
     "utility.lambda=0.3+nav.goal_snap_m=0.1; tables per setting and sweep.md.";
 
 std::atomic<bool> g_stop{false};
+// The command line as given, to run it again in a private network namespace.
+std::vector<std::string> g_command_line;
 
 void OnSignal(int) {
   g_stop = true;
   std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends at once
+}
+
+// --duration checked before anything runs; false after printing why it is refused.
+bool CheckDurationFlag(const char* command) {
+  try {
+    CheckDuration(FLAGS_duration);
+    return true;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "aslam %s: %s\n", command, e.what());
+    return false;
+  }
 }
 
 // --start into `start` (left empty without the flag); false after printing why it is malformed.
@@ -99,10 +116,11 @@ void PrintProgress(const ExploreProgress& p, bool terminal) {
                   p.goal_m.x_m, p.goal_m.y_m);
   std::printf(
       "%st=%7.1f s  coverage %5.1f %%  keyframes %5d  closures %4d  frontiers %3d  goal %-18s  "
-      "reached %3d failed %3d  collisions %lld  %6.1fx real time  %s%s",
+      "reached %3d failed %3d  collisions %lld  %6.1fx real time  %s%s%s%s",
       terminal ? "\r" : "", p.sim_s, 100.0 * p.coverage, p.keyframes, p.loop_closures, p.frontiers,
       goal, p.goals_reached, p.goals_failed, static_cast<long long>(p.collisions),
-      p.wall_s > 0 ? p.sim_s / p.wall_s : 0.0, p.state.c_str(), terminal ? "\033[K" : "\n");
+      p.wall_s > 0 ? p.sim_s / p.wall_s : 0.0, p.state.c_str(),
+      p.restarts.empty() ? "" : "  restarts: ", p.restarts.c_str(), terminal ? "\033[K" : "\n");
   std::fflush(stdout);
 }
 
@@ -119,11 +137,36 @@ std::string WriteEffectiveConfig(const ExploreOptions& options,
   text += ApplyConfigOverrides(options.config_file, overrides);
   std::filesystem::create_directories(out);
   const std::string path = out + "/config.yaml";
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file << text;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write " + path);
+  WriteFileAtomically(path, text);
   return path;
+}
+
+// Process mode on a host without a multicast route: the same command again in a private
+// network namespace whose loopback carries multicast, as scripts/demo does. Returns only if
+// that cannot be done, with the exit code.
+int RunInPrivateNetworkNamespace(const std::string& lcm_url) {
+  if (std::getenv(kPrivateNetnsVariable) != nullptr) {
+    std::fprintf(stderr,
+                 "aslam explore: no multicast route for %s even in the private network "
+                 "namespace: see scripts/in-private-netns\n",
+                 lcm_url.c_str());
+    return 1;
+  }
+  std::string why_not = WhyNoPrivateNetworkNamespace();
+  if (why_not.empty()) {
+    std::printf(
+        "aslam explore: this host has no multicast route for %s; running again in a private "
+        "network namespace (unshare -rn) whose loopback carries multicast\n",
+        lcm_url.c_str());
+    why_not = ExecInPrivateNetworkNamespace(g_command_line);
+  }
+  std::fprintf(stderr,
+               "aslam explore: process mode needs LCM's udpm, which needs a multicast route, and "
+               "a private network namespace is not possible either (%s). Add a loopback route: "
+               "sudo ip link set lo multicast on && sudo ip route add 224.0.0.0/4 dev lo; or run "
+               "in one process with --inproc\n",
+               why_not.c_str());
+  return 1;
 }
 
 int Explore(const std::vector<std::string>& sets) {
@@ -131,8 +174,15 @@ int Explore(const std::vector<std::string>& sets) {
     std::fprintf(stderr, "aslam explore: --world and --out are required\nusage: %s\n", kUsage);
     return 2;
   }
-  if (FLAGS_seed < 0 || FLAGS_rate < 0 || !(FLAGS_duration > 0)) {
-    std::fprintf(stderr, "aslam explore: --seed and --rate must be >= 0, --duration > 0\n");
+  if (!CheckDurationFlag("explore")) return 2;
+  if (FLAGS_seed < 0 || !(FLAGS_rate >= 0) || !std::isfinite(FLAGS_rate)) {
+    std::fprintf(stderr, "aslam explore: --seed %lld, --rate %g: both must be finite and >= 0\n",
+                 static_cast<long long>(FLAGS_seed), FLAGS_rate);
+    return 2;
+  }
+  if (FLAGS_inproc && !FLAGS_launch.empty()) {
+    std::fprintf(stderr, "aslam explore: --launch '%s' is for process mode, not --inproc\n",
+                 FLAGS_launch.c_str());
     return 2;
   }
   ExploreOptions options;
@@ -153,6 +203,9 @@ int Explore(const std::vector<std::string>& sets) {
     std::fprintf(stderr, "aslam explore: %s\n", e.what());
     return 2;
   }
+  // Same pid after the re-run (exec all the way), so the same private URL.
+  const std::string lcm_url = FLAGS_lcm_url.empty() ? PrivateLcmUrl(getpid()) : FLAGS_lcm_url;
+  if (!FLAGS_inproc && !MulticastRouteExists(lcm_url)) return RunInPrivateNetworkNamespace(lcm_url);
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     if (!overrides.empty()) {
@@ -176,8 +229,9 @@ int Explore(const std::vector<std::string>& sets) {
       ExploreProcessOptions process;
       process.explore = options;
       process.rate = FLAGS_rate;
-      process.lcm_url = FLAGS_lcm_url.empty() ? PrivateLcmUrl(getpid()) : FLAGS_lcm_url;
+      process.lcm_url = lcm_url;
       process.out_dir = FLAGS_out;
+      process.launch_file = FLAGS_launch;
       std::printf(
           "aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, processes at %gx "
           "real time on %s (logs in %s)\n",
@@ -190,15 +244,16 @@ int Explore(const std::vector<std::string>& sets) {
     WriteRunFolder(result, FLAGS_out);
     if (!FLAGS_inproc) {
       // metrics.json says which mode made it.
-      const std::string path = FLAGS_out + "/metrics.json";
-      std::ofstream(path, std::ios::binary | std::ios::trunc)
-          << AddModeToMetricsJson(MetricsToJson(result.metrics), "process");
+      WriteFileAtomically(FLAGS_out + "/metrics.json",
+                          AddModeToMetricsJson(MetricsToJson(result.metrics), "process"));
       // CPU per process and scan-to-command latency, from the run's own log.
       try {
-        const LogStats stats = ComputeLogStats(FLAGS_out + "/run.lcmlog");
-        std::ofstream(FLAGS_out + "/process_stats.json", std::ios::binary | std::ios::trunc)
-            << LogStatsJson(stats);
+        const std::string log = FLAGS_out + "/run.lcmlog";
+        const LogStats stats = ComputeLogStats(log);
+        WriteFileAtomically(FLAGS_out + "/process_stats.json", LogStatsJson(stats));
         std::printf("%s", LogStatsTable(stats).c_str());
+        const std::string warning = LogStatsWarning(stats, log);
+        if (!warning.empty()) std::fprintf(stderr, "aslam explore: %s\n", warning.c_str());
       } catch (const std::exception& e) {
         std::fprintf(stderr, "aslam explore: no process figures: %s\n", e.what());
       }
@@ -222,6 +277,21 @@ int Explore(const std::vector<std::string>& sets) {
                 FLAGS_out.c_str(),
                 FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log",
                 FLAGS_inproc && !overrides.empty() ? ",config.yaml" : "");
+    if (const std::string restarts = RestartsSummary(m.processes); !restarts.empty()) {
+      std::printf("aslam explore: processes restarted during the run: %s (last ends:",
+                  restarts.c_str());
+      for (const ProcessHistory& p : m.processes) {
+        if (p.restarts > 0) std::printf(" %s %s", p.name.c_str(), LastEnd(p).c_str());
+      }
+      std::printf("; see %s/procman.log)\n", FLAGS_out.c_str());
+    }
+    if (m.end_reason == "process-failed") {
+      std::fprintf(stderr,
+                   "aslam explore: the run did not complete: a process failed and procman did not "
+                   "bring it back (see %s/procman.log)\n",
+                   FLAGS_out.c_str());
+      return 1;
+    }
     if (m.end_reason == "procman-exited") {
       std::fprintf(stderr,
                    "aslam explore: aslam-procman ended before the run did: see %s/procman.log and "
@@ -267,6 +337,7 @@ void PrintBenchProgress(const BenchProgress& p, bool terminal) {
 }
 
 int Bench(const std::vector<std::string>& sets) {
+  if (!CheckDurationFlag("bench")) return 2;
   BenchOptions options;
   options.sweep = sets;
   options.worlds = SplitList(FLAGS_worlds);
@@ -330,7 +401,10 @@ int LogStatsCommand(const std::vector<std::string>& paths) {
     return 2;
   }
   try {
-    std::printf("%s", LogStatsTable(ComputeLogStats(paths[0])).c_str());
+    const LogStats stats = ComputeLogStats(paths[0]);
+    std::printf("%s", LogStatsTable(stats).c_str());
+    const std::string warning = LogStatsWarning(stats, paths[0]);
+    if (!warning.empty()) std::fprintf(stderr, "aslam log-stats: %s\n", warning.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aslam log-stats: %s\n", e.what());
@@ -367,6 +441,7 @@ int RunAslamCommand(int argc, char** argv) {
   const bool help =
       argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
   const std::string command = argc >= 2 ? argv[1] : "";
+  g_command_line.assign(argv, argv + argc);
   if (command != "explore" && command != "bench" && command != "log-stats") {
     std::fprintf(help ? stdout : stderr,
                  "usage: aslam <command> [flags]\n\ncommands:\n"

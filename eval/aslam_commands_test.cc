@@ -104,5 +104,67 @@ TEST(ExploreSetTest, RunReadsAndRecordsTheEffectiveConfig) {
   EXPECT_FALSE(fs::exists(::testing::TempDir() + "/bench_test_set_none/run/config.yaml"));
 }
 
+// `aslam ARGS` as a child (no defaults added): its exit code and output.
+std::pair<int, std::string> Aslam(const std::string& log, std::vector<std::string> args) {
+  SubprocessOptions spawn;
+  spawn.argv = {ASLAM_BINARY};
+  spawn.argv.insert(spawn.argv.end(), args.begin(), args.end());
+  spawn.output_path = log;
+  const int code = Subprocess::Spawn(spawn).Wait().CodeOrMinusSignal();
+  return {code, ReadFile(spawn.output_path)};
+}
+
+// A duration that is not a finite number of seconds > 0 fails at once, naming the flag and the
+// value, in both modes of explore and in bench, before anything is written.
+TEST(DurationFlagTest, InfNanNegativeAndZeroAreRefusedNamingTheValue) {
+  const std::vector<std::pair<std::string, std::string>> values = {
+      {"inf", "inf"}, {"nan", "nan"}, {"-5", "-5"}, {"0", "0"}, {"-inf", "-inf"}};
+  for (const auto& [value, shown] : values) {
+    for (const std::string mode : {"--inproc", "--rate=0"}) {
+      const std::string name = "duration_" + value + mode.substr(2, 6);
+      const auto [code, output] = Explore(name, {mode, "--duration=" + value});
+      EXPECT_EQ(code, 2) << value << " " << mode << ": " << output;
+      EXPECT_THAT(output, AllOf(HasSubstr("aslam explore: --duration "), HasSubstr(shown),
+                                HasSubstr("finite number of simulated seconds > 0")))
+          << value << " " << mode;
+      EXPECT_FALSE(fs::exists(::testing::TempDir() + "/bench_test_" + name + "/run"))
+          << value << " " << mode << ": the run started";
+    }
+    const std::string out = TempDir("bench_duration_" + value);
+    const auto [code, output] =
+        Aslam(out + ".log", {"bench", "--worlds", "test", "--methods", "fd", "--seeds", "1",
+                             "--duration", value, "--out", out + "/bench"});
+    EXPECT_EQ(code, 2) << value << ": " << output;
+    EXPECT_THAT(output, AllOf(HasSubstr("aslam bench: --duration "), HasSubstr(shown)));
+    EXPECT_FALSE(fs::exists(out + "/bench")) << value << ": the bench started";
+  }
+  // The flag with its value as the next argument.
+  const auto [code, output] = Explore("duration_space", {"--inproc", "--duration", "-5"});
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_THAT(output, HasSubstr("--duration -5"));
+}
+
+// `aslam log-stats` on a recorded log cut short in the middle of an event: the figures of what
+// it read, and a warning naming the file and the byte where reading stopped.
+TEST(LogStatsCommandTest, TruncatedLogWarnsNamingTheFileAndTheOffset) {
+  const std::string out = TempDir("log_stats_truncated");
+  const std::string log = out + "/run.lcmlog";
+  fs::copy_file(std::string(ASLAM_SOURCE_DIR) + "/logs/test_drive.lcmlog", log);
+  const auto whole_bytes = fs::file_size(log);
+  const auto [whole_code, whole_output] = Aslam(out + "/whole.txt", {"log-stats", log});
+  EXPECT_EQ(whole_code, 0) << whole_output;
+  EXPECT_THAT(whole_output, HasSubstr("LIDAR_SCAN -> CMD_VEL"));
+  EXPECT_THAT(whole_output, ::testing::Not(HasSubstr("warning")));
+
+  fs::resize_file(log, whole_bytes / 2 + 7);  // an event of the fixture is far longer than 7 B
+  const auto [code, output] = Aslam(out + "/cut.txt", {"log-stats", log});
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_THAT(output, AllOf(HasSubstr("LIDAR_SCAN -> CMD_VEL"),
+                            HasSubstr("aslam log-stats: warning: " + log + " is truncated"),
+                            HasSubstr("stopped at byte "),
+                            HasSubstr(" of " + std::to_string(whole_bytes / 2 + 7)),
+                            HasSubstr("log: TRUNCATED")));
+}
+
 }  // namespace
 }  // namespace aslam

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "common/atomic_file.h"
+
 namespace aslam {
 namespace {
 
@@ -41,7 +43,7 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   const std::string& out = options.out_dir;
   std::vector<std::string> written;
   auto write = [&](const std::string& name, const std::string& text) {
-    WriteBenchFile(out + "/" + name, text);
+    WriteFileAtomically(out + "/" + name, text);
     written.push_back(name);
   };
   // A table per setting, each under a heading naming it; without --set the one table alone.

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
+#include "common/atomic_file.h"
 #include "common/map_io.h"
 #include "common/subprocess.h"
 #include "common/text_format.h"
@@ -46,10 +47,8 @@ void WriteFig5Inputs(const RunRecord& record, const std::string& out_prefix) {
   cv::Mat truth_grey, slam_grey;  // MapToGrey's row 0 is the map's top row, as imshow wants
   MapToGrey(truth).convertTo(truth_grey, CV_8U, 255.0);
   MapToGrey(ResampleOnGrid(slam.grid, map_in_world, truth)).convertTo(slam_grey, CV_8U, 255.0);
-  if (!cv::imwrite(out_prefix + "_truth.png", truth_grey) ||
-      !cv::imwrite(out_prefix + "_map.png", slam_grey)) {
-    throw std::runtime_error("cannot write " + out_prefix + "_{truth,map}.png");
-  }
+  WriteImageAtomically(out_prefix + "_truth.png", truth_grey);
+  WriteImageAtomically(out_prefix + "_map.png", slam_grey);
   const PoseGraph graph = ReadG2o(record.run.dir + "/graph.g2o");
   std::string edges = "x0_m,y0_m,x1_m,y1_m,loop_closure\n";
   for (const PoseGraphEdge& e : graph.edges) {
@@ -59,16 +58,16 @@ void WriteFig5Inputs(const RunRecord& record, const std::string& out_prefix) {
              "," + Format("%.4f", b.y_m) + "," + (e.kind == EdgeKind::kLoopClosure ? "1" : "0") +
              "\n";
   }
-  WriteBenchFile(out_prefix + "_graph.csv", edges);
+  WriteFileAtomically(out_prefix + "_graph.csv", edges);
   const double res = truth.resolution_m();
-  WriteBenchFile(out_prefix + "_extent.csv",
-                 "x_min_m,x_max_m,y_min_m,y_max_m,method,seed,coverage,run_dir\n" +
-                     Format("%.4f", truth.origin_m().x_m) + "," +
-                     Format("%.4f", truth.origin_m().x_m + truth.width_cells() * res) + "," +
-                     Format("%.4f", truth.origin_m().y_m) + "," +
-                     Format("%.4f", truth.origin_m().y_m + truth.height_cells() * res) + "," +
-                     record.run.method + "," + std::to_string(record.run.seed) + "," +
-                     Format("%.4f", record.Number("coverage")) + "," + record.run.dir + "\n");
+  WriteFileAtomically(out_prefix + "_extent.csv",
+                      "x_min_m,x_max_m,y_min_m,y_max_m,method,seed,coverage,run_dir\n" +
+                          Format("%.4f", truth.origin_m().x_m) + "," +
+                          Format("%.4f", truth.origin_m().x_m + truth.width_cells() * res) + "," +
+                          Format("%.4f", truth.origin_m().y_m) + "," +
+                          Format("%.4f", truth.origin_m().y_m + truth.height_cells() * res) + "," +
+                          record.run.method + "," + std::to_string(record.run.seed) + "," +
+                          Format("%.4f", record.Number("coverage")) + "," + record.run.dir + "\n");
 }
 
 std::vector<std::string> DrawBenchPlots(const std::string& out_dir, const std::string& curves_csv,
@@ -98,7 +97,7 @@ std::vector<std::string> DrawBenchPlots(const std::string& out_dir, const std::s
   try {
     if (!Subprocess::Spawn(plot).Wait().success()) throw std::runtime_error(failed);
   } catch (const SpawnError& e) {
-    WriteBenchFile(plot.output_path, std::string(e.what()) + "\n");
+    WriteFileAtomically(plot.output_path, std::string(e.what()) + "\n");
     throw std::runtime_error(failed);
   }
   std::vector<std::string> figures = {"fig3.png", "fig4.png"};

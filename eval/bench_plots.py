@@ -16,6 +16,7 @@ import argparse
 import csv
 import math
 import os
+import tempfile
 from collections import defaultdict
 
 import matplotlib
@@ -46,6 +47,30 @@ def read_curves(path, setting):
     return curves
 
 
+def save_figure(fig, path):
+    """Writes `fig` as PNG atomically, as the C++ side writes every file (common/atomic_file.h):
+    a temporary file in the same folder, fsync, rename over `path`, fsync of the folder."""
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, temp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".tmp.")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            fig.savefig(f, format="png", dpi=120)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(temp, 0o644)
+        os.replace(temp, path)
+    except BaseException:
+        if os.path.exists(temp):
+            os.unlink(temp)
+        raise
+    folder_fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        os.fsync(folder_fd)
+    finally:
+        os.close(folder_fd)
+    plt.close(fig)
+
+
 def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, scale=1.0, setting=""):
     worlds = [w for w in worlds if w in curves] + [w for w in curves if w not in worlds]
     fig, axes = plt.subplots(1, max(1, len(worlds)), figsize=(6.5 * max(1, len(worlds)), 4.2), squeeze=False)
@@ -68,8 +93,7 @@ def band_plot(curves, worlds, methods, mean_key, std_key, ylabel, title, path, s
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def fig5(out, world, setting):
@@ -110,8 +134,7 @@ def fig5(out, world, setting):
     ax.set_aspect("equal")
     ax.legend(loc="upper right", fontsize="small")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, f"fig5_{world}.png"), dpi=120)
-    plt.close(fig)
+    save_figure(fig, os.path.join(out, f"fig5_{world}.png"))
 
 
 def main():

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <list>
 #include <set>
 #include <stdexcept>
@@ -18,6 +17,7 @@
 
 #include "common/subprocess.h"
 #include "common/text_format.h"
+#include "eval/explore_runner.h"
 #include "utility/utility_config.h"
 
 namespace aslam {
@@ -124,7 +124,7 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options) {
       throw std::invalid_argument("--methods: '" + method + "': expected fd, ags or ours");
   }
   if (options.seeds < 1) throw std::invalid_argument("--seeds must be >= 1");
-  if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  CheckDuration(options.duration_s);
   if (options.jobs < 1) throw std::invalid_argument("--jobs must be >= 1");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
   std::set<std::string> labels;
@@ -273,12 +273,6 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
   }
   summary.wall_seconds = Since(start);
   return summary;
-}
-
-void WriteBenchFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace aslam

@@ -89,7 +89,4 @@ std::optional<RunRecord> ReadFinishedRun(const BenchRun& run);
 BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop,
                       const std::function<void(const BenchProgress&)>& on_progress);
 
-// Writes one file of the bench folder (truncated); throws std::runtime_error naming it.
-void WriteBenchFile(const std::string& path, const std::string& text);
-
 }  // namespace aslam

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/atomic_file.h"
 #include "drivers/sim/sim_config.h"
 #include "frontier/frontier_config.h"
 #include "navigation/nav_config.h"
@@ -177,10 +178,7 @@ void WriteSettingConfigs(const std::string& config_file, const std::vector<Bench
                                "both");
     }
     fs::create_directories(fs::path(path).parent_path());
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + path);
+    WriteFileAtomically(path, text);
   }
   // Loaded as `aslam explore` loads it, before any run starts (docs/architecture.md §7).
   for (const BenchSetting& setting : settings) {

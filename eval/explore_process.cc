@@ -1,14 +1,19 @@
 #include "eval/explore_process.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -21,7 +26,9 @@
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
+#include "aslam/procman_status_t.hpp"
 #include "aslam/sim_status_t.hpp"
+#include "common/atomic_file.h"
 #include "common/channels.h"
 #include "common/lcm_util.h"
 #include "common/subprocess.h"
@@ -34,6 +41,8 @@
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_lcm.h"
 #include "navigation/nav_config.h"
+#include "procman/process_history.h"
+#include "procman/procman_lcm.h"
 #include "slam/slam_config.h"
 #include "utility/utility_config.h"
 
@@ -69,12 +78,12 @@ std::string WriteNodeConfig(const std::string& config_file, const std::string& m
   if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
   root["utility"]["method"] = method;
   const std::string path = out_dir + "/config.yaml";
-  std::ofstream out(path);
-  out << "# written by aslam explore from "
-      << (config_file.empty() ? "built-in defaults" : config_file) << ", utility.method set to "
-      << method << "\n"
-      << root << "\n";
-  if (!out) throw std::runtime_error("cannot write " + path);
+  std::ostringstream text;
+  text << "# written by aslam explore from "
+       << (config_file.empty() ? "built-in defaults" : config_file) << ", utility.method set to "
+       << method << "\n"
+       << root << "\n";
+  WriteFileAtomically(path, text.str());
   return path;
 }
 
@@ -94,13 +103,12 @@ std::string WriteWorldWithStart(const WorldInfo& world, const Pose2d& start,
   pose.SetStyle(YAML::EmitterStyle::Flow);
   root["start"] = pose;
   const std::string path = out_dir + "/world.yaml";
-  std::ofstream out(path);
-  out << "# written by aslam explore: "
-      << (world.world_yaml_path.empty() ? world.map_yaml_path : world.world_yaml_path)
-      << " with its --start\n"
-      << root << "\n";
-  out.close();
-  if (!out) throw std::runtime_error("cannot write " + path);
+  std::ostringstream text;
+  text << "# written by aslam explore: "
+       << (world.world_yaml_path.empty() ? world.map_yaml_path : world.world_yaml_path)
+       << " with its --start\n"
+       << root << "\n";
+  WriteFileAtomically(path, text.str());
   (void)LoadWorld(path);
   return path;
 }
@@ -112,6 +120,56 @@ std::string PrivateLcmUrl(int pid) {
   // net.core.rmem_max).
   return "udpm://239.255.76.67:" + std::to_string(17000 + (pid % 10000)) +
          "?ttl=0&recv_buf_size=4194304";
+}
+
+bool MulticastRouteExists(const std::string& url) {
+  const std::string scheme = "udpm://";
+  if (url.rfind(scheme, 0) != 0) return true;
+  const std::string rest = url.substr(scheme.size(), url.find('?') - scheme.size());
+  const std::size_t colon = rest.rfind(':');
+  sockaddr_in group{};
+  group.sin_family = AF_INET;
+  group.sin_port = htons(colon == std::string::npos
+                             ? 7667
+                             : static_cast<uint16_t>(std::atoi(rest.c_str() + colon + 1)));
+  if (inet_pton(AF_INET, rest.substr(0, colon).c_str(), &group.sin_addr) != 1) return true;
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return true;  // not a routing question: OpenLcm will say what is wrong
+  const bool routed = connect(fd, reinterpret_cast<const sockaddr*>(&group), sizeof group) == 0;
+  close(fd);
+  return routed;
+}
+
+std::string WhyNoPrivateNetworkNamespace() {
+  SubprocessOptions probe;
+  probe.argv = {"unshare", "-rn", "true"};
+  probe.output_path = "/dev/null";
+  try {
+    if (!Subprocess::Spawn(probe).Wait().success()) {
+      return "unshare -rn is not permitted here (unprivileged user namespaces are off)";
+    }
+  } catch (const SpawnError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string ExecInPrivateNetworkNamespace(const std::vector<std::string>& argv) {
+  std::error_code error;
+  const std::string self = fs::read_symlink("/proc/self/exe", error).string();
+  if (error) return "cannot find this program (/proc/self/exe): " + error.message();
+  const std::string script = std::string(ASLAM_SOURCE_DIR) + "/scripts/in-private-netns";
+  std::vector<std::string> args = {script, self};
+  args.insert(args.end(), argv.begin() + (argv.empty() ? 0 : 1), argv.end());
+  std::vector<char*> pointers;
+  for (std::string& arg : args) pointers.push_back(arg.data());
+  pointers.push_back(nullptr);
+  setenv(kPrivateNetnsVariable, "1", 1);
+  std::fflush(stdout);
+  execv(script.c_str(), pointers.data());
+  const int exec_errno = errno;
+  unsetenv(kPrivateNetnsVariable);
+  return "cannot run " + script + ": " + std::strerror(exec_errno);
 }
 
 std::string AddModeToMetricsJson(const std::string& json, const std::string& mode) {
@@ -126,7 +184,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   const auto method = ParseUtilityMethod(ex.method);
   if (!method)
     throw std::invalid_argument("--method '" + ex.method + "': expected fd, ags or ours");
-  if (!(ex.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  CheckDuration(ex.duration_s);
   if (!(options.rate >= 0)) throw std::invalid_argument("--rate must be >= 0");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
 
@@ -156,6 +214,9 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   const std::string launch = options.launch_file.empty()
                                  ? std::string(ASLAM_SOURCE_DIR) + "/config/launch/explore.yaml"
                                  : options.launch_file;
+  if (!fs::is_regular_file(launch)) {
+    throw std::invalid_argument("--launch '" + launch + "': no such launch config file");
+  }
   const std::string url = options.lcm_url.empty() ? PrivateLcmUrl(getpid()) : options.lcm_url;
 
   const std::vector<std::pair<std::string, std::string>> vars = {
@@ -178,11 +239,23 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   // Listen first, so nothing the simulator says is missed.
   const auto lcm = OpenLcm(url);
   RunListener listener(*lcm, world.map.grid);
+  // What procman says of its processes: restarts, and one that will not come back.
+  ProcessHistoryTracker processes;
+  Subscriptions procman_status(*lcm);
+  procman_status.Add<procman_status_t>(channels::kProcmanStatus,
+                                       [&](const procman_status_t& message) {
+                                         DeputyStatus status;
+                                         if (!FromLcm(message, &status)) return false;
+                                         processes.Add(status);
+                                         return true;
+                                       });
+  // The simulator ends at the duration, and with it the deputy: the run's normal end.
+  const std::string exit_when = "sim";
 
   const Clock::time_point wall_start = Clock::now();
   SubprocessOptions spawn;
   spawn.argv = {procman,     "deputy", "--config", launch,    "--log-dir",   out,
-                "--lcm-url", url,      "--vars",   vars_text, "--exit-when", "sim"};
+                "--lcm-url", url,      "--vars",   vars_text, "--exit-when", exit_when};
   spawn.output_path = out + "/procman.log";
   // Its own group: a terminal's Ctrl-C reaches only this runner, which stops the deputy in
   // order; SIGTERM to it should this runner die first.
@@ -198,8 +271,13 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   bool interrupted = false;
   bool deputy_ended = false;
   std::string failure;
+  std::optional<std::string> lost_process;  // why the run cannot go on as asked
 
-  auto progress = [&] { return listener.Progress(listener.sim_utime() * 1e-6, Since(wall_start)); };
+  auto progress = [&] {
+    ExploreProgress p = listener.Progress(listener.sim_utime() * 1e-6, Since(wall_start));
+    p.restarts = RestartsSummary(processes.processes());
+    return p;
+  };
 
   while (true) {
     lcm->handleTimeout(20);
@@ -218,6 +296,8 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
       interrupted = true;
       break;
     }
+    lost_process = LostProcess(processes.processes(), exit_when);
+    if (lost_process) break;
     if (deputy.Poll() || !deputy.running()) {
       deputy_ended = true;
       break;
@@ -241,10 +321,20 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   }
   const double wall_s = Since(wall_start);
   if (!failure.empty()) throw std::runtime_error(failure);
+  // The deputy ended by itself: a process it gave up on may be why (its status came first).
+  if (deputy_ended && !lost_process) lost_process = LostProcess(processes.processes(), exit_when);
+  const std::string restarts = RestartsSummary(processes.processes());
   if (!deputy_status.success()) {
-    std::fprintf(stderr, "aslam explore: aslam-procman %s %d (see %s/procman.log)\n",
+    const std::string why =
+        restarts.empty() ? "" : ": processes failed (restarts: " + restarts + ")";
+    std::fprintf(stderr, "aslam explore: aslam-procman %s %d%s; see %s/procman.log\n",
                  deputy_status.exited() ? "exited with" : "killed by signal",
-                 deputy_status.exited() ? deputy_status.code : deputy_status.signal, out.c_str());
+                 deputy_status.exited() ? deputy_status.code : deputy_status.signal, why.c_str(),
+                 out.c_str());
+  }
+  if (lost_process) {
+    std::fprintf(stderr, "aslam explore: the run stopped at %.1f s simulated: %s (see %s/*.log)\n",
+                 listener.sim_utime() * 1e-6, lost_process->c_str(), out.c_str());
   }
 
   if (listener.map()) result.map = *listener.map();
@@ -258,11 +348,17 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
     m.goals_failed = s->goals_failed;
     m.decisions = s->decisions;
   }
-  m.end_reason = m.done                                          ? "done"
+  m.processes = processes.processes();
+  m.end_reason = lost_process                                    ? "process-failed"
+                 : m.done                                        ? "done"
                  : interrupted                                   ? "interrupted"
                  : sim_s >= ex.duration_s - 1.0 || !deputy_ended ? "duration"
                                                                  : "procman-exited";
-  if (on_progress) on_progress(listener.FinalProgress(m, sim_s, wall_s));
+  if (on_progress) {
+    ExploreProgress last = listener.FinalProgress(m, sim_s, wall_s);
+    last.restarts = restarts;
+    on_progress(last);
+  }
   return result;
 }
 

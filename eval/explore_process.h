@@ -14,6 +14,7 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "eval/explore_runner.h"
 
@@ -37,13 +38,35 @@ std::string PrivateLcmUrl(int pid);
 // Runs one exploration as processes. Writes OUT/config.yaml (the config with
 // utility.method set, what the nodes read) and lets the deputy write
 // OUT/run.lcmlog, OUT/NAME.log and OUT/procman.log; the caller writes the run
-// folder's outputs (WriteRunFolder). result.metrics.end_reason is done,
+// folder's outputs (WriteRunFolder). The runner follows PROCMAN_STATUS:
+// result.metrics.processes holds each process's restarts and how it last ended
+// on its own, and a process that ended and that procman will not restart
+// (failed with restart never, procman gave up, or exited) ends the run at
+// once. result.metrics.end_reason is then process-failed; otherwise done,
 // duration, interrupted or procman-exited (the deputy ended before the
 // duration). Throws std::invalid_argument for bad options, std::runtime_error
 // if procman cannot be started or the simulator is never heard.
 ExploreResult RunExploreProcess(
     const ExploreProcessOptions& options, const std::atomic<bool>* stop = nullptr,
     const std::function<void(const ExploreProgress&)>& on_progress = {});
+
+// False when `url` is udpm:// and this host cannot route a datagram to its multicast group:
+// no multicast route (an isolated machine), where LCM's udpm cannot open. Any other URL: true.
+// Probes the way LCM does (connect() of a UDP socket to the group), printing nothing.
+bool MulticastRouteExists(const std::string& url);
+
+// Set in the environment of a process re-run in a private network namespace.
+inline constexpr const char* kPrivateNetnsVariable = "ASLAM_IN_PRIVATE_NETNS";
+
+// "" when this user may make a private network namespace (unshare -rn); otherwise why not.
+std::string WhyNoPrivateNetworkNamespace();
+
+// Replaces this process by `argv` run inside a private network namespace whose loopback
+// carries multicast (scripts/in-private-netns: unshare -rn, lo up with multicast, a route for
+// 224.0.0.0/4 on lo; ttl=0 keeps everything on this host), with kPrivateNetnsVariable set.
+// argv[0] is this program: /proc/self/exe is run in its place. Returns only when that cannot
+// be done, saying why.
+std::string ExecInPrivateNetworkNamespace(const std::vector<std::string>& argv);
 
 // Adds `"mode": "process"` (or any mode) to metrics.json's text as its last key.
 std::string AddModeToMetricsJson(const std::string& json, const std::string& mode);

@@ -19,6 +19,7 @@
 #include "common/inproc_host.h"
 #include "common/lcm_util.h"
 #include "common/robot_config.h"
+#include "common/text_format.h"
 #include "common/types_lcm.h"
 #include "common/world_file.h"
 #include "drivers/sim/sim_config.h"
@@ -45,6 +46,12 @@ constexpr double kRateWindowS = 300.0;
 
 }  // namespace
 
+void CheckDuration(double duration_s) {
+  if (std::isfinite(duration_s) && duration_s > 0) return;
+  throw std::invalid_argument("--duration " + Format("%g", duration_s) +
+                              ": expected a finite number of simulated seconds > 0");
+}
+
 std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost, double from_s,
                                              double to_s) {
   const CostSample* first = nullptr;
@@ -64,7 +71,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   const auto method = ParseUtilityMethod(options.method);
   if (!method)
     throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
-  if (!(options.duration_s > 0)) throw std::invalid_argument("--duration must be > 0");
+  CheckDuration(options.duration_s);
 
   // One thread: every node's CPU is charged on this thread (OpenCV's workers
   // would go uncounted), and bench jobs already fill the cores.

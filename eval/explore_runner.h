@@ -18,6 +18,7 @@
 #include "common/occupancy_grid.h"
 #include "common/pose2d.h"  // also ParsePose, for --start
 #include "common/pose_graph.h"
+#include "procman/process_history.h"
 
 namespace aslam {
 
@@ -44,7 +45,8 @@ struct ExploreProgress {
   int goals_reached = 0;
   int goals_failed = 0;
   int64_t collisions = 0;
-  std::string state;  // waiting | exploring | done
+  std::string state;     // waiting | exploring | done
+  std::string restarts;  // process mode: "slam 1, nav 2", the processes restarted; "" if none
 };
 
 struct CoverageSample {
@@ -83,6 +85,10 @@ struct CostSample {
   NodeCpu cpu;          // cumulative
 };
 
+// Throws std::invalid_argument naming --duration and its value unless it is a finite number
+// of simulated seconds > 0: inf would never end a run, NaN would end it at once.
+void CheckDuration(double duration_s);
+
 // Simulated seconds per CPU second between the first sample at or after
 // `from_s` and the last at or before `to_s`; nullopt when they do not span time.
 std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost, double from_s,
@@ -105,8 +111,10 @@ struct RunMetrics {
   int goals_reached = 0;
   int goals_failed = 0;
   int decisions = 0;
-  bool done = false;                            // EXPLORE_STATUS said done
-  std::string end_reason;                       // done | duration | interrupted
+  bool done = false;  // EXPLORE_STATUS said done
+  // done | duration | interrupted; process mode also process-failed (a process ended and
+  // procman will not bring it back) and procman-exited (the deputy ended before the run did)
+  std::string end_reason;
   std::optional<double> time_to_90_coverage_s;  // first sample at >= 0.9
   double free_area_m2 = 0.0;                    // ground-truth free area
   double occupied_precision = 0.0;  // map agreement of the final map (trajectory_metrics.h)
@@ -131,6 +139,9 @@ struct RunMetrics {
   std::optional<double> sim_per_cpu;
   std::optional<double> sim_per_cpu_first_300s;
   std::optional<double> sim_per_cpu_last_300s;
+  // Process mode only: each supervised process's restarts and how it last ended on its own
+  // (metrics.json "processes"; empty in process).
+  std::vector<ProcessHistory> processes;
 };
 
 struct ExploreResult {

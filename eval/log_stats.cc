@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <unordered_map>
@@ -17,12 +18,17 @@
 #include "aslam/velocity_command_t.hpp"
 #include "common/channels.h"
 #include "common/json_text.h"
+#include "common/text_format.h"
+#include "procman/procman_lcm.h"
 
 namespace aslam {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kBytesPerMib = 1024.0 * 1024.0;
+// An event on disk: sync word, event number, timestamp, channel length, data length (4 + 8 + 8
+// + 4 + 4 bytes), then the channel and the data.
+constexpr int64_t kEventHeaderBytes = 28;
 
 // lcm-gen's decode returns < 0 for bad bytes, but a corrupt array count can
 // still make it resize a vector to an absurd size and throw; both are one
@@ -112,14 +118,28 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
   if (!log.good()) throw std::runtime_error("cannot open lcm log " + lcmlog_path);
 
   LogStats stats;
+  std::error_code size_error;
+  const auto file_bytes = std::filesystem::file_size(lcmlog_path, size_error);
+  if (size_error) {
+    throw std::runtime_error("cannot read the size of " + lcmlog_path + ": " +
+                             size_error.message());
+  }
+  stats.file_bytes = static_cast<int64_t>(file_bytes);
   ScanMatcher matcher;
   std::map<std::string, CpuAccumulator> cpu_by_name;  // every name seen, RUNNING or not
-  int64_t events = 0;
+  ProcessHistoryTracker history;
+  int64_t& events = stats.events;
   int64_t first_us = 0;
   int64_t last_us = 0;
 
   for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr;
        event = log.readNextEvent()) {
+    // LCM reads up to the next sync word, skipping what is not an event, and ends at the first
+    // incomplete one as at the end of the file: positions tell the two apart.
+    const int64_t end = ftello(log.getFilePtr());
+    stats.skipped_bytes += end - stats.read_bytes - kEventHeaderBytes -
+                           static_cast<int64_t>(event->channel.size()) - event->datalen;
+    stats.read_bytes = end;
     // min/max rather than first/last: the logger's wall clock may step back.
     first_us = events == 0 ? event->timestamp : std::min(first_us, event->timestamp);
     last_us = events == 0 ? event->timestamp : std::max(last_us, event->timestamp);
@@ -145,6 +165,8 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
         ++stats.undecodable;
         continue;
       }
+      DeputyStatus deputy;
+      if (FromLcm(status, &deputy)) history.Add(deputy);
       for (const procman_process_status_t& p : status.processes) {
         CpuAccumulator& acc = cpu_by_name[p.name];
         // A NaN from a broken deputy would poison the mean; such a sample says nothing.
@@ -159,14 +181,19 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
     }
   }
   if (events == 0) {
-    throw std::runtime_error("no lcm events in " + lcmlog_path + " (empty, or not an lcm log)");
+    throw std::runtime_error("no whole lcm event in " + lcmlog_path +
+                             " (empty, not an lcm log, or cut short within its first event)");
   }
+  stats.truncated = stats.read_bytes < stats.file_bytes;
   stats.log_seconds = (last_us - first_us) / 1e6;
 
   for (const auto& [name, acc] : cpu_by_name) {
     ProcessCpu p;
     p.name = name;
     p.samples = acc.samples;
+    for (const ProcessHistory& h : history.processes()) {
+      if (h.name == name) p.history = h;
+    }
     if (acc.samples > 0) {
       p.mean_cpu_percent = acc.sum_cpu_percent / acc.samples;
       p.max_cpu_percent = acc.max_cpu_percent;
@@ -203,19 +230,38 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
   return stats;
 }
 
+std::string LogStatsWarning(const LogStats& stats, const std::string& lcmlog_path) {
+  std::string warning;
+  if (stats.truncated) {
+    warning = Format(
+        "warning: %s is truncated or corrupt: reading stopped at byte %lld of %lld, after %lld "
+        "whole events; the figures leave out the last %lld bytes",
+        lcmlog_path.c_str(), static_cast<long long>(stats.read_bytes),
+        static_cast<long long>(stats.file_bytes), static_cast<long long>(stats.events),
+        static_cast<long long>(stats.file_bytes - stats.read_bytes));
+  }
+  if (stats.skipped_bytes > 0) {
+    warning += std::string(warning.empty() ? "warning: " + lcmlog_path : ";") +
+               Format(" %lld bytes between events were not an event and were skipped",
+                      static_cast<long long>(stats.skipped_bytes));
+  }
+  return warning;
+}
+
 std::string LogStatsTable(const LogStats& stats) {
   std::string out;
   char line[256];
   std::size_t name_width = 7;  // "process"
   for (const ProcessCpu& p : stats.processes) name_width = std::max(name_width, p.name.size());
   const int w = static_cast<int>(name_width);
-  std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, "process", "mean CPU %",
-                "max CPU %", "share", "max RSS MiB");
+  std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s %8s %8s\n", w, "process", "mean CPU %",
+                "max CPU %", "share", "max RSS MiB", "restarts", "last end");
   out += line;
   for (const ProcessCpu& p : stats.processes) {
-    std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s\n", w, p.name.c_str(),
+    std::snprintf(line, sizeof line, "%-*s %10s %10s %7s %12s %8d %8s\n", w, p.name.c_str(),
                   Cell(p.mean_cpu_percent, "%.1f").c_str(), Cell(p.max_cpu_percent, "%.1f").c_str(),
-                  Cell(100.0 * p.share, "%.1f%%").c_str(), Cell(p.max_rss_mib, "%.1f").c_str());
+                  Cell(100.0 * p.share, "%.1f%%").c_str(), Cell(p.max_rss_mib, "%.1f").c_str(),
+                  p.history.restarts, LastEnd(p.history).c_str());
     out += line;
   }
   if (stats.processes.empty()) {
@@ -236,6 +282,15 @@ std::string LogStatsTable(const LogStats& stats) {
   std::snprintf(line, sizeof line, "log: %.1f s, %lld undecodable messages\n", stats.log_seconds,
                 static_cast<long long>(stats.undecodable));
   out += line;
+  if (stats.truncated) {
+    out += Format("log: TRUNCATED: read %lld whole events, stopped at byte %lld of %lld\n",
+                  static_cast<long long>(stats.events), static_cast<long long>(stats.read_bytes),
+                  static_cast<long long>(stats.file_bytes));
+  }
+  if (stats.skipped_bytes > 0) {
+    out += Format("log: %lld bytes between events skipped\n",
+                  static_cast<long long>(stats.skipped_bytes));
+  }
   return out;
 }
 
@@ -244,20 +299,27 @@ std::string LogStatsJson(const LogStats& stats) {
   for (std::size_t i = 0; i < stats.processes.size(); ++i) {
     const ProcessCpu& p = stats.processes[i];
     processes += i == 0 ? "\n    " : ",\n    ";
-    processes += JsonObject({
+    std::vector<std::pair<std::string, std::string>> fields = {
         {"name", JsonString(p.name)},
         {"samples", std::to_string(p.samples)},
         {"mean_cpu_percent", JsonNumber(p.mean_cpu_percent)},
         {"max_cpu_percent", JsonNumber(p.max_cpu_percent)},
         {"share", JsonNumber(p.share)},
         {"max_rss_mib", JsonNumber(p.max_rss_mib)},
-    });
+    };
+    for (auto& field : ProcessHistoryJsonFields(p.history)) fields.push_back(std::move(field));
+    processes += JsonObject(fields);
   }
   processes += stats.processes.empty() ? "]" : "\n  ]";
   const LatencyStats& l = stats.scan_to_cmd_vel;
   const std::vector<std::pair<std::string, std::string>> fields = {
       {"log_seconds", JsonNumber(stats.log_seconds)},
       {"undecodable", std::to_string(stats.undecodable)},
+      {"events", std::to_string(stats.events)},
+      {"truncated", stats.truncated ? "true" : "false"},
+      {"read_bytes", std::to_string(stats.read_bytes)},
+      {"file_bytes", std::to_string(stats.file_bytes)},
+      {"skipped_bytes", std::to_string(stats.skipped_bytes)},
       {"total_mean_cpu_percent", JsonNumber(stats.total_mean_cpu_percent)},
       {"processes", processes},
       {"scan_to_cmd_vel", JsonObject({

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "procman/process_history.h"
+
 namespace aslam {
 
 // One supervised process, over the PROCMAN_STATUS samples in which it was
@@ -25,6 +27,7 @@ struct ProcessCpu {
   double max_cpu_percent = std::numeric_limits<double>::quiet_NaN();
   double share = std::numeric_limits<double>::quiet_NaN();  // mean / sum of every process's mean
   double max_rss_mib = std::numeric_limits<double>::quiet_NaN();  // MiB = 2^20 bytes
+  ProcessHistory history;  // restarts and how it last ended on its own
 };
 
 // Scan-to-command latency: CMD_VEL receive time − receive time of the
@@ -52,6 +55,14 @@ struct LogStats {
   // LIDAR_SCAN, CMD_VEL and PROCMAN_STATUS events whose bytes do not decode
   // as their type; skipped. Other channels are not decoded.
   int64_t undecodable = 0;
+  int64_t events = 0;      // whole events read
+  int64_t file_bytes = 0;  // the file's size when it was opened
+  int64_t read_bytes = 0;  // where reading stopped: the end of the last whole event
+  // The file goes on past the last whole event: cut short (a crash, a full disk, a copy
+  // in progress) or corrupt there. The figures cover the first read_bytes only.
+  bool truncated = false;
+  // Bytes between events that were not an event header, skipped to find the next one.
+  int64_t skipped_bytes = 0;
 };
 
 // A scan is kept for matching this long (logger time) after it was logged,
@@ -59,16 +70,22 @@ struct LogStats {
 inline constexpr double kScanMatchWindowSeconds = 10.0;
 
 // Reads the lcm log at `lcmlog_path` once. Throws std::runtime_error naming
-// the file if it cannot be opened, is not an lcm log or holds no events.
+// the file if it cannot be opened, is not an lcm log or holds no whole event.
 // A log without PROCMAN_STATUS or CMD_VEL gives no processes or NaN latencies.
+// A log cut short is read up to its last whole event (`truncated`).
 LogStats ComputeLogStats(const std::string& lcmlog_path);
+
+// "" for a log read to its end; otherwise one line naming `lcmlog_path`, the
+// byte offset where reading stopped and the bytes left unread (or skipped).
+std::string LogStatsWarning(const LogStats& stats, const std::string& lcmlog_path);
 
 // Nearest-rank percentile of `sorted_values` (ascending): the ceil(p·n)-th
 // smallest, p in [0, 1] (p = 0 gives the smallest); NaN for no values.
 double NearestRankPercentile(const std::vector<double>& sorted_values, double p);
 
-// A text table: process | mean CPU % | max CPU % | share | max RSS MiB, a
-// total row, then the latency line and the log length. NaN shows as "-".
+// A text table: process | mean CPU % | max CPU % | share | max RSS MiB | restarts | last end, a
+// total row, then the latency line and the log length (and where a truncated
+// log stopped). NaN shows as "-".
 std::string LogStatsTable(const LogStats& stats);
 
 // One JSON object, keys in a fixed order, one per line (processes one per

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -251,6 +252,40 @@ TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
   EXPECT_TRUE(std::isnan(stats.scan_to_cmd_vel.median_ms));
 }
 
+// Restarts and how each process last ended on its own come from the same statuses; the TERM of
+// the shutdown at the end of the log is the deputy's doing and does not overwrite them.
+TEST(ComputeLogStats, RestartsAndLastEndsFromTheStatuses) {
+  auto with = [](procman_process_status_t p, int restarts, int exit_code, bool should_run = true) {
+    p.restarts = restarts;
+    p.exit_code = exit_code;
+    p.should_run = should_run;
+    return p;
+  };
+  constexpr int8_t kBackoff = procman_process_status_t::STATE_BACKOFF;
+  constexpr int8_t kStopped = procman_process_status_t::STATE_STOPPED;
+  TempLogPath file;
+  {
+    LcmLogWriter log(file.path());
+    log.Write(channels::kProcmanStatus, kStartUs,
+              Status("explore", {Process("slam", kRunning, 50.0, 0)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 1'000'000,
+              Status("explore", {with(Process("slam", kBackoff, 0.0, 0), 0, -9)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 2'000'000,
+              Status("explore", {with(Process("slam", kRunning, 40.0, 0), 1, -9)}));
+    log.Write(channels::kProcmanStatus, kStartUs + 3'000'000,
+              Status("explore", {with(Process("slam", kStopped, 0.0, 0), 1, -15, false)}));
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  ASSERT_EQ(stats.processes.size(), 1u);
+  EXPECT_EQ(stats.processes[0].history.restarts, 1);
+  EXPECT_EQ(stats.processes[0].history.last_signal, 9);
+  const std::string json = LogStatsJson(stats);
+  EXPECT_NE(json.find("\"restarts\": 1, \"last_exit_code\": null, \"last_signal\": \"SIGKILL\""),
+            std::string::npos)
+      << json;
+  EXPECT_NE(LogStatsTable(stats).find("SIGKILL"), std::string::npos);
+}
+
 // Bytes that are not the channel's type are skipped and counted; channels
 // this analysis does not read are not judged.
 TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
@@ -316,8 +351,11 @@ TEST(LogStatsJson, FixedKeysAndNullForNaN) {
   slam.max_cpu_percent = 90.0;
   slam.share = 0.75;
   slam.max_rss_mib = 120.25;
+  slam.history.restarts = 2;
+  slam.history.last_signal = 9;
   ProcessCpu idle;
   idle.name = "aslam-\"idle\"";
+  idle.history.last_exit_code = 1;
   stats.processes = {slam, idle};
   stats.scan_to_cmd_vel.matched = 0;
   stats.scan_to_cmd_vel.unmatched_commands = 1;
@@ -326,14 +364,21 @@ TEST(LogStatsJson, FixedKeysAndNullForNaN) {
       "{\n"
       "  \"log_seconds\": 12.5,\n"
       "  \"undecodable\": 3,\n"
+      "  \"events\": 0,\n"
+      "  \"truncated\": false,\n"
+      "  \"read_bytes\": 0,\n"
+      "  \"file_bytes\": 0,\n"
+      "  \"skipped_bytes\": 0,\n"
       "  \"total_mean_cpu_percent\": 50,\n"
       "  \"processes\": [\n"
       "    {\"name\": \"aslam-slam\", \"samples\": 4, \"mean_cpu_percent\": 37.5, "
       "\"max_cpu_percent\": 90, "
-      "\"share\": 0.75, \"max_rss_mib\": 120.25},\n"
+      "\"share\": 0.75, \"max_rss_mib\": 120.25, \"restarts\": 2, \"last_exit_code\": null, "
+      "\"last_signal\": \"SIGKILL\"},\n"
       "    {\"name\": \"aslam-\\\"idle\\\"\", \"samples\": 0, \"mean_cpu_percent\": null, "
       "\"max_cpu_percent\": "
-      "null, \"share\": null, \"max_rss_mib\": null}\n"
+      "null, \"share\": null, \"max_rss_mib\": null, \"restarts\": 0, \"last_exit_code\": 1, "
+      "\"last_signal\": null}\n"
       "  ],\n"
       "  \"scan_to_cmd_vel\": {\"matched\": 0, \"unmatched_commands\": 1, \"median_ms\": null, "
       "\"p99_ms\": null, \"max_ms\": null}\n"
@@ -361,6 +406,8 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
   nav.name = "aslam-nav";
   nav.mean_cpu_percent = 12.5;
   nav.share = 0.25;
+  nav.history.restarts = 2;
+  nav.history.last_signal = 9;
   stats.processes = {slam, nav};
   stats.scan_to_cmd_vel.matched = 10;
   stats.scan_to_cmd_vel.median_ms = 1.5;
@@ -368,9 +415,9 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
   stats.scan_to_cmd_vel.max_ms = 7.0;
   const std::string table = LogStatsTable(stats);
   EXPECT_EQ(table,
-            "process    mean CPU %  max CPU %   share  max RSS MiB\n"
-            "aslam-slam       37.5       90.0   75.0%        120.2\n"
-            "aslam-nav        12.5       90.0   25.0%        120.2\n"
+            "process    mean CPU %  max CPU %   share  max RSS MiB restarts last end\n"
+            "aslam-slam       37.5       90.0   75.0%        120.2        0        -\n"
+            "aslam-nav        12.5       90.0   25.0%        120.2        2  SIGKILL\n"
             "total            50.0\n"
             "LIDAR_SCAN -> CMD_VEL: median 1.50 ms, p99 4.25 ms, max 7.00 ms (10 matched, 0 "
             "unmatched commands)\n"
@@ -379,6 +426,127 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
   const std::string empty = LogStatsTable(LogStats{});
   EXPECT_NE(empty.find("no PROCMAN_STATUS"), std::string::npos) << empty;
   EXPECT_NE(empty.find("median - ms, p99 - ms, max - ms"), std::string::npos) << empty;
+}
+
+// Offsets where the events of an lcm log start, parsed from its bytes (big-endian sync word
+// 0xEDA1DA01, event number, timestamp, channel length, data length, channel, data), and the end.
+std::vector<int64_t> EventStarts(const std::string& bytes) {
+  auto be32 = [&](std::size_t at) {
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v = (v << 8) | static_cast<uint8_t>(bytes.at(at + i));
+    return static_cast<int64_t>(v);
+  };
+  std::vector<int64_t> starts;
+  std::size_t at = 0;
+  while (at < bytes.size()) {
+    EXPECT_EQ(be32(at), 0xEDA1DA01) << "no sync word at byte " << at;
+    starts.push_back(static_cast<int64_t>(at));
+    at += 28 + be32(at + 20) + be32(at + 24);
+  }
+  EXPECT_EQ(at, bytes.size());
+  starts.push_back(static_cast<int64_t>(at));
+  return starts;
+}
+
+std::string ReadBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// A recorded fixture cut in the middle of an event: everything before the cut is read and
+// reported, and the stats, the table, the JSON and the warning all say where reading stopped.
+TEST(ComputeLogStats, TruncatedFixtureIsReadToItsLastWholeEventAndSaysSo) {
+  const std::string fixture = std::string(ASLAM_SOURCE_DIR) + "/logs/test_drive.lcmlog";
+  const std::string bytes = ReadBytes(fixture);
+  const std::vector<int64_t> starts = EventStarts(bytes);
+  const int64_t whole_events = static_cast<int64_t>(starts.size()) - 1;
+  ASSERT_GT(whole_events, 100);
+
+  const LogStats whole = ComputeLogStats(fixture);
+  EXPECT_FALSE(whole.truncated);
+  EXPECT_EQ(whole.events, whole_events);
+  EXPECT_EQ(whole.read_bytes, static_cast<int64_t>(bytes.size()));
+  EXPECT_EQ(whole.file_bytes, static_cast<int64_t>(bytes.size()));
+  EXPECT_EQ(whole.skipped_bytes, 0);
+  EXPECT_EQ(LogStatsWarning(whole, fixture), "");
+  EXPECT_EQ(LogStatsTable(whole).find("TRUNCATED"), std::string::npos);
+
+  // Cut half-way through the event that starts the second half of the log.
+  const std::size_t kept_events = static_cast<std::size_t>(whole_events / 2);
+  const int64_t stop = starts[kept_events];
+  const int64_t cut = stop + (starts[kept_events + 1] - stop) / 2;
+  ASSERT_GT(cut, stop);
+  TempLogPath file;
+  {
+    std::ofstream out(file.path(), std::ios::binary);
+    out.write(bytes.data(), cut);
+  }
+  const LogStats cut_short = ComputeLogStats(file.path());
+  EXPECT_TRUE(cut_short.truncated);
+  EXPECT_EQ(cut_short.events, static_cast<int64_t>(kept_events));
+  EXPECT_EQ(cut_short.read_bytes, stop);
+  EXPECT_EQ(cut_short.file_bytes, cut);
+  EXPECT_GT(cut_short.log_seconds, 0.0);
+  EXPECT_LT(cut_short.log_seconds, whole.log_seconds);
+
+  const std::string warning = LogStatsWarning(cut_short, file.path());
+  EXPECT_NE(warning.find(file.path()), std::string::npos) << warning;
+  EXPECT_NE(warning.find("stopped at byte " + std::to_string(stop) + " of " + std::to_string(cut)),
+            std::string::npos)
+      << warning;
+  const std::string json = LogStatsJson(cut_short);
+  EXPECT_NE(json.find("\"truncated\": true,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"read_bytes\": " + std::to_string(stop) + ","), std::string::npos) << json;
+  EXPECT_NE(LogStatsTable(cut_short).find("TRUNCATED"), std::string::npos);
+}
+
+// One event of `message` on `channel` at `logged_us`, as the bytes of a log of its own.
+template <typename Msg>
+std::string EventBytes(const std::string& path, const std::string& channel, int64_t logged_us,
+                       const Msg& message) {
+  {
+    LcmLogWriter log(path);
+    log.Write(channel, logged_us, message);
+  }
+  return ReadBytes(path);
+}
+
+// Bytes before the first event are skipped by LCM to the first sync word; the stats count them
+// instead of passing over them in silence.
+TEST(ComputeLogStats, BytesBeforeTheFirstEventAreCountedAsSkipped) {
+  TempLogPath file;
+  const std::string scan = EventBytes(file.path(), channels::kLidarScan, kStartUs, Scan(500));
+  const std::string command =
+      EventBytes(file.path(), channels::kCmdVel, kStartUs + 4'000, Command(500));
+  {
+    std::ofstream out(file.path(), std::ios::binary);
+    out << "torn" << scan << command;
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  EXPECT_EQ(stats.events, 2);
+  EXPECT_FALSE(stats.truncated);
+  EXPECT_EQ(stats.skipped_bytes, 4);
+  EXPECT_EQ(stats.scan_to_cmd_vel.matched, 1);
+  const std::string warning = LogStatsWarning(stats, file.path());
+  EXPECT_NE(warning.find(file.path()), std::string::npos) << warning;
+  EXPECT_NE(warning.find("4 bytes between events"), std::string::npos) << warning;
+}
+
+// Bytes that are no event in the middle of a log (a torn write): LCM 1.3 stops reading there
+// (and drops the event before them). Whatever the library does, the stats do not hide it.
+TEST(ComputeLogStats, GarbageInTheMiddleIsReportedNotHidden) {
+  TempLogPath file;
+  const std::string a = EventBytes(file.path(), channels::kLidarScan, kStartUs, Scan(500));
+  const std::string b = EventBytes(file.path(), channels::kLidarScan, kStartUs + 1'000, Scan(600));
+  const std::string c = EventBytes(file.path(), channels::kLidarScan, kStartUs + 2'000, Scan(700));
+  {
+    std::ofstream out(file.path(), std::ios::binary);
+    out << a << a << b << "torn" << c;
+  }
+  const LogStats stats = ComputeLogStats(file.path());
+  EXPECT_LT(stats.events, 4);
+  EXPECT_TRUE(stats.truncated || stats.skipped_bytes == 4);
+  EXPECT_NE(LogStatsWarning(stats, file.path()).find(file.path()), std::string::npos);
 }
 
 }  // namespace

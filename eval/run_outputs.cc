@@ -4,12 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/atomic_file.h"
 #include "common/json_text.h"
 #include "common/map_io.h"
 #include "common/text_format.h"
@@ -17,12 +17,6 @@
 
 namespace aslam {
 namespace {
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw std::runtime_error("cannot write " + path);
-}
 
 std::string OptionalNumber(const std::optional<double>& value) {
   return value ? JsonNumber(*value) : "null";
@@ -82,6 +76,8 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"sim_per_cpu_last_300s", OptionalNumber(m.sim_per_cpu_last_300s)},
       {"node_cpu_s", m.node_cpu ? NodeCpuJson(*m.node_cpu) : "null"},
   };
+  if (!m.processes.empty())
+    fields.emplace_back("processes", ProcessHistoriesJson(m.processes, "  "));
   std::string out = "{\n";
   for (std::size_t i = 0; i < fields.size(); ++i) {
     out += "  " + JsonString(fields[i].first) + ": " + fields[i].second;
@@ -211,13 +207,12 @@ void WriteRunFolder(const ExploreResult& result, const std::string& dir) {
   std::filesystem::create_directories(dir, error);
   if (error) throw std::runtime_error("cannot create " + dir + ": " + error.message());
   if (!result.map.empty()) SaveMap(result.map, dir + "/map");
-  const std::string png = dir + "/map.png";
-  if (!cv::imwrite(png, RenderRunImage(result))) throw std::runtime_error("cannot write " + png);
+  WriteImageAtomically(dir + "/map.png", RenderRunImage(result));
   WriteG2o(result.graph, dir + "/graph.g2o");
-  WriteText(dir + "/coverage.csv", CoverageToCsv(result.coverage));
-  WriteText(dir + "/uncertainty.csv", UncertaintyToCsv(result.uncertainty));
-  if (!result.cost.empty()) WriteText(dir + "/cost.csv", CostToCsv(result.cost));
-  WriteText(dir + "/metrics.json", MetricsToJson(result.metrics));
+  WriteFileAtomically(dir + "/coverage.csv", CoverageToCsv(result.coverage));
+  WriteFileAtomically(dir + "/uncertainty.csv", UncertaintyToCsv(result.uncertainty));
+  if (!result.cost.empty()) WriteFileAtomically(dir + "/cost.csv", CostToCsv(result.cost));
+  WriteFileAtomically(dir + "/metrics.json", MetricsToJson(result.metrics));
 }
 
 }  // namespace aslam

@@ -5,11 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
+#include "common/atomic_file.h"
 #include "common/channels.h"
 #include "common/lcm_log_writer.h"
 #include "common/map_io.h"
@@ -219,9 +220,9 @@ void WriteOutputs(const std::string& out_dir, const OccupancyGrid& map,
                   const std::vector<TimedPose>& keyframes, const DriveRecord& record) {
   std::filesystem::create_directories(out_dir);
   if (!map.empty()) SaveMap(map, out_dir + "/map");
-  std::ofstream csv(out_dir + "/trajectory.csv");
+  std::ostringstream csv;
   WriteTrajectoryCsv(keyframes, record.truth, record.odometry, csv);
-  if (!csv) throw std::runtime_error("cannot write " + out_dir + "/trajectory.csv");
+  WriteFileAtomically(out_dir + "/trajectory.csv", csv.str());
   std::printf("wrote %s/map.yaml, map.pgm, trajectory.csv\n", out_dir.c_str());
 }
 

@@ -214,7 +214,14 @@ void Deputy::OnExit(Process& p, const ExitStatus& status) {
   const bool restart =
       p.should_run && !shutting_down_ &&
       (policy == RestartPolicy::kAlways || (policy == RestartPolicy::kOnFailure && abnormal));
-  if (restart) {
+  const int give_up_after = p.config.backoff.give_up_after_failures;
+  if (restart && abnormal && give_up_after > 0 && p.consecutive_failures + 1 >= give_up_after) {
+    p.state = ProcessState::kFailed;
+    const std::string reason = "gave up after " + std::to_string(give_up_after) +
+                               " failures in a row (backoff.give_up_after_failures)";
+    failure_reasons_.back() += "; " + reason;  // the same failure, not another
+    AppendToLog(LogPath(p.config.name), "--- aslam-procman: " + reason + "\n");
+  } else if (restart) {
     ++p.consecutive_failures;
     p.restart_at_s = now_s + BackoffDelayS(p.config.backoff, p.consecutive_failures);
     p.state = ProcessState::kBackoff;

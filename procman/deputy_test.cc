@@ -171,6 +171,47 @@ TEST_F(DeputyTest, OnFailureRestartsAfterExponentialBackoff) {
   EXPECT_EQ(Of("flaky").exit_code, 3);
 }
 
+// A process that fails every time is restarted give_up_after_failures - 1 times, then left
+// failed with the reason in its log; a healthy run in between starts the count again.
+TEST_F(DeputyTest, GivesUpAfterTheConfiguredFailuresInARow) {
+  ProcessConfig p = Proc("crashes", "exit 7", RestartPolicy::kOnFailure);
+  p.backoff.initial_s = 0.0;
+  p.backoff.give_up_after_failures = 3;
+  Deputy& d = Make({p});
+  d.Start();
+  ASSERT_TRUE(StepUntil([&] { return Of("crashes").state == ProcessState::kFailed; }));
+  EXPECT_EQ(Of("crashes").restarts, 2);
+  EXPECT_EQ(Of("crashes").exit_code, 7);
+  for (int i = 0; i < 20; ++i) d.Step();
+  EXPECT_EQ(Of("crashes").state, ProcessState::kFailed);  // for good
+  EXPECT_EQ(Of("crashes").restarts, 2);
+  EXPECT_NE(Log("crashes").find("gave up after 3 failures in a row"), std::string::npos)
+      << Log("crashes");
+  ASSERT_EQ(d.failures(), 3);  // three ends; giving up is no fourth
+  EXPECT_NE(d.failure_reasons().back().find("crashes: exit code 7; gave up after 3"),
+            std::string::npos)
+      << d.failure_reasons().back();
+}
+
+TEST_F(DeputyTest, AHealthyRunStartsTheFailureCountAgain) {
+  ProcessConfig p = Sleeper("healthy", RestartPolicy::kOnFailure);
+  p.backoff.initial_s = 0.0;
+  p.backoff.reset_after_s = 5.0;
+  p.backoff.give_up_after_failures = 2;
+  Deputy& d = Make({p});
+  d.Start();
+  for (int kill_number = 1; kill_number <= 3; ++kill_number) {
+    clock_.now_s += 6.0;  // each run lasts past reset_after_s: every failure is the first
+    kill(Of("healthy").pid, SIGKILL);
+    ASSERT_TRUE(StepUntil([&] { return Of("healthy").restarts == kill_number; }));
+    EXPECT_EQ(Of("healthy").state, ProcessState::kRunning);
+  }
+  kill(Of("healthy").pid, SIGKILL);  // at once this time: the second failure in a row
+  ASSERT_TRUE(StepUntil([&] { return Of("healthy").state == ProcessState::kFailed; }));
+  EXPECT_EQ(Of("healthy").exit_code, -SIGKILL);
+  EXPECT_EQ(d.failures(), 4);
+}
+
 TEST_F(DeputyTest, AlwaysRestartsEvenAfterSuccess) {
   ProcessConfig p = Proc("loop", "exit 0", RestartPolicy::kAlways);
   p.backoff.initial_s = 0.0;

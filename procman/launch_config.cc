@@ -13,7 +13,8 @@ const std::set<std::string> kTopKeys = {"deputy", "stop_timeout_s", "processes"}
 const std::set<std::string> kProcessKeys = {"name",    "command",     "args",       "env",
                                             "group",   "start_order", "auto_start", "start_delay_s",
                                             "restart", "backoff"};
-const std::set<std::string> kBackoffKeys = {"initial_s", "max_s", "factor", "reset_after_s"};
+const std::set<std::string> kBackoffKeys = {"initial_s", "max_s", "factor", "reset_after_s",
+                                            "give_up_after_failures"};
 
 // ConfigReader has no list-of-strings or free-form map reader, so the raw node
 // answers which keys exist; every value still goes through the reader for its errors.
@@ -60,6 +61,7 @@ BackoffOptions LoadBackoff(const ConfigReader& process, const YAML::Node& raw) {
   r.ReadInRange("max_s", &b.max_s, 0.0, 86400.0);
   r.ReadInRange("factor", &b.factor, 1.0, 100.0);
   r.ReadInRange("reset_after_s", &b.reset_after_s, 0.0, 86400.0);
+  r.ReadInRange("give_up_after_failures", &b.give_up_after_failures, 0, 1000000);
   if (b.max_s < b.initial_s) r.Fail("max_s", "must not be below initial_s");
   return b;
 }

@@ -17,7 +17,8 @@
 //         auto_start: true         # started when the deputy starts
 //         start_delay_s: 0         # ... this long after the deputy starts
 //         restart: on-failure      # never | on-failure | always
-//         backoff: {initial_s: 0.5, max_s: 10, factor: 2, reset_after_s: 10}
+//         backoff: {initial_s: 0.5, max_s: 10, factor: 2, reset_after_s: 10,
+//                   give_up_after_failures: 0}   # 0 = restart for ever
 //
 // `${NAME}` in command, args and env values is replaced from the variables the
 // caller passes (e.g. LCM_URL, LOG_DIR, BUILD, SRC, OUT); an unknown one is an error.
@@ -40,6 +41,9 @@ struct BackoffOptions {
   double factor = 2.0;
   // A run at least this long counts as healthy: the next failure backs off from initial_s.
   double reset_after_s = 10.0;
+  // After this many failures in a row the process is left failed rather than restarted
+  // (a process that cannot come back should say so, not retry unseen); 0 = never give up.
+  int give_up_after_failures = 0;
 };
 
 // Delay before restart number `consecutive_failures` (1 = the first after a healthy run):

@@ -26,7 +26,8 @@ procman:
       auto_start: false
       start_delay_s: 0.5
       restart: on-failure
-      backoff: {initial_s: 0.25, max_s: 4, factor: 3, reset_after_s: 5}
+      backoff: {initial_s: 0.25, max_s: 4, factor: 3, reset_after_s: 5,
+                give_up_after_failures: 4}
 )";
 
 // The ConfigError message that loading `yaml` throws; "" when it loads.
@@ -70,6 +71,7 @@ TEST(LaunchConfigTest, LoadsEveryField) {
   EXPECT_EQ(sim.backoff.max_s, 4.0);
   EXPECT_EQ(sim.backoff.factor, 3.0);
   EXPECT_EQ(sim.backoff.reset_after_s, 5.0);
+  EXPECT_EQ(sim.backoff.give_up_after_failures, 4);
 }
 
 TEST(LaunchConfigTest, RestartPolicies) {
@@ -116,6 +118,10 @@ TEST(LaunchConfigTest, EveryBadKeyOrValueIsNamed) {
        "procman.processes[0].backoff.factor = '0.5': must be in [1, 100]"},
       {OneProcess("      backoff: {initial_s: 5, max_s: 1}\n"),
        "procman.processes[0].backoff.max_s = '1': must not be below initial_s"},
+      {OneProcess("      backoff: {give_up_after_failures: -1}\n"),
+       "procman.processes[0].backoff.give_up_after_failures = '-1': must be in"},
+      {OneProcess("      backoff: {give_up_after_failures: 2.5}\n"),
+       "procman.processes[0].backoff.give_up_after_failures = '2.5': expected an integer"},
       {OneProcess("      backoff: {jitter: 1}\n"),
        "procman.processes[0].backoff.jitter = '1': unknown key"},
       {"procman:\n  processes:\n    - command: /bin/true\n",

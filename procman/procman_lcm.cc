@@ -11,9 +11,8 @@ int8_t StateToLcm(ProcessState state) {
     case ProcessState::kStopping: return procman_process_status_t::STATE_STOPPING;
     case ProcessState::kBackoff: return procman_process_status_t::STATE_BACKOFF;
     case ProcessState::kFailed: return procman_process_status_t::STATE_FAILED;
-    case ProcessState::kStopped:
-    case ProcessState::kExited:  // the message has no "exited": stopped while should_run says it
-      return procman_process_status_t::STATE_STOPPED;
+    case ProcessState::kExited: return procman_process_status_t::STATE_EXITED;
+    case ProcessState::kStopped: return procman_process_status_t::STATE_STOPPED;
   }
   return procman_process_status_t::STATE_STOPPED;
 }
@@ -25,6 +24,7 @@ bool StateFromLcm(int8_t state, ProcessState* out) {
     case procman_process_status_t::STATE_BACKOFF: *out = ProcessState::kBackoff; return true;
     case procman_process_status_t::STATE_FAILED: *out = ProcessState::kFailed; return true;
     case procman_process_status_t::STATE_STOPPING: *out = ProcessState::kStopping; return true;
+    case procman_process_status_t::STATE_EXITED: *out = ProcessState::kExited; return true;
     default: return false;
   }
 }

@@ -65,11 +65,6 @@ bool OrdersCarriedOut(const DeputyStatus& status, const DeputyOrders& orders) {
   return true;
 }
 
-std::string DisplayState(const ProcessStatus& p) {
-  if (p.state == ProcessState::kStopped && p.should_run && p.pid == 0) return "exited";
-  return ProcessStateName(p.state);
-}
-
 std::string FormatStatusTable(const std::vector<DeputyStatus>& deputies) {
   std::string table;
   char line[512];
@@ -81,7 +76,7 @@ std::string FormatStatusTable(const std::vector<DeputyStatus>& deputies) {
     table += line;
     for (const auto& p : d.processes) {
       std::snprintf(line, sizeof line, "%-16s %-12s %-9s %8d %8d %5d %7.1f %9.1f\n", p.name.c_str(),
-                    p.group.empty() ? "-" : p.group.c_str(), DisplayState(p).c_str(), p.pid,
+                    p.group.empty() ? "-" : p.group.c_str(), ProcessStateName(p.state), p.pid,
                     p.restarts, p.exit_code, p.cpu_percent, p.rss_bytes / 1e6);
       table += line;
     }

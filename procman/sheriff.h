@@ -29,9 +29,6 @@ DeputyOrders ComputeOrders(const DeputyStatus& status, SheriffCommand command,
 // (or ended again) in the ordered run.
 bool OrdersCarriedOut(const DeputyStatus& status, const DeputyOrders& orders);
 
-// What the table shows as state: "exited" for a process wanted but ended with code 0.
-std::string DisplayState(const ProcessStatus& process);
-
 // One row per process: name, group, state, pid, restarts, exit code, CPU %, RSS MB.
 std::string FormatStatusTable(const std::vector<DeputyStatus>& deputies);
 

@@ -25,7 +25,7 @@ DeputyStatus Sample() {
   ProcessStatus exited;
   exited.name = "once";
   exited.should_run = true;
-  exited.state = ProcessState::kStopped;  // as the message carries "exited"
+  exited.state = ProcessState::kExited;
   exited.run_id = 2;
   d.processes.push_back(exited);
   return d;

@@ -11,6 +11,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "common/atomic_file.h"
+
 namespace aslam {
 namespace {
 
@@ -52,8 +54,7 @@ int ToId(double value, const std::string& path, int line) {
 }  // namespace
 
 void WriteG2o(const PoseGraph& graph, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot open for writing");
+  std::ostringstream out;
   out.precision(std::numeric_limits<double>::max_digits10);  // exact round trip
   for (const PoseGraphNode& node : graph.nodes) {
     out << "VERTEX_SE2 " << node.id << ' ' << node.pose.x_m << ' ' << node.pose.y_m << ' '
@@ -65,8 +66,7 @@ void WriteG2o(const PoseGraph& graph, const std::string& path) {
         << edge.measurement.y_m << ' ' << edge.measurement.yaw_rad << ' ' << I(0, 0) << ' '
         << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2) << '\n';
   }
-  out.close();
-  if (!out) throw std::runtime_error(path + ": write failed");
+  WriteFileAtomically(path, out.str());
 }
 
 PoseGraph ReadG2o(const std::string& path) {

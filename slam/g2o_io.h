@@ -10,7 +10,8 @@
 
 namespace aslam {
 
-// Writes `graph` to `path`; throws std::runtime_error naming the path on failure.
+// Writes `graph` to `path` atomically (common/atomic_file.h); throws std::runtime_error naming
+// the path on failure.
 void WriteG2o(const PoseGraph& graph, const std::string& path);
 // Reads a g2o file; throws std::runtime_error naming the path and line on bad input.
 // Loop closures are recognised as edges between non-consecutive ids.

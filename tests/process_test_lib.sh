@@ -1,19 +1,28 @@
 # Sourced by the *_process_test.sh scripts after they set `src`, `build` and
 # `port_base`: re-runs the script in a private network namespace when user
-# namespaces allow (else it stays on a port of its own with ttl=0), and
-# provides `url`, `out` (a temporary folder), `check` and `heard`.
+# namespaces allow (else it stays on a port of its own with ttl=0; and so when
+# the script set `stay_in_this_namespace=1`), and provides `url`, `out` (a
+# temporary folder), `check` and `heard`.
 
-if [[ -z "${ASLAM_IN_NETNS:-}" ]] && unshare -rn true 2>/dev/null; then
+if [[ -z "${ASLAM_IN_NETNS:-}" && -z "${stay_in_this_namespace:-}" ]] &&
+  unshare -rn true 2>/dev/null; then
   ASLAM_IN_NETNS=1 exec "$src/scripts/in-private-netns" "$0" "$@"
 fi
 
 url="udpm://239.255.76.67:$((port_base + $$ % 100))?ttl=0"
 monitor="$build/tools/aslam-monitor"
 failures=0
-check() {  # check NAME COMMAND...: runs the command, counts a failure
+passes=0
+check() {  # check NAME COMMAND...: runs the command, counts a pass or a failure
   local name="$1"
   shift
-  if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failures=$((failures + 1)); fi
+  if "$@"; then
+    echo "ok: $name"
+    passes=$((passes + 1))
+  else
+    echo "FAILED: $name"
+    failures=$((failures + 1))
+  fi
 }
 
 out=$(mktemp -d)
