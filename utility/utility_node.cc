@@ -1,15 +1,18 @@
 #include "utility/utility_node.h"
 
 #include <chrono>
+#include <filesystem>
 #include <utility>
 
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
 #include "aslam/utility_scores_t.hpp"
+#include "common/atomic_file.h"
 #include "common/channels.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
 #include "navigation/nav_lcm.h"
+#include "utility/exploration_record_io.h"
 #include "utility/utility_lcm.h"
 
 namespace aslam {
@@ -70,7 +73,23 @@ bool UtilityNode::OnNavStatus(const nav_status_t& msg) {
   return true;
 }
 
+bool UtilityNode::UseStateFile(const std::string& path) {
+  state_file_ = path;
+  const bool restart = std::filesystem::exists(path);
+  if (restart) manager_.Restore(LoadExplorationRecord(path));
+  saved_record_ = manager_.record();
+  return restart;
+}
+
 void UtilityNode::Carry(const ExploreActions& actions) {
+  if (!state_file_.empty() && !(manager_.record() == saved_record_)) {
+    try {
+      WriteFileAtomically(state_file_, ExplorationRecordToYaml(manager_.record()));
+      saved_record_ = manager_.record();
+    } catch (const std::exception& e) {
+      state_file_error_ = e.what();
+    }
+  }
   if (actions.goal) {
     const explore_goal_t msg = ToLcm(*actions.goal);
     lcm_.publish(channels::kExploreGoal, &msg);

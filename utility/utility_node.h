@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
@@ -28,6 +29,13 @@ namespace aslam {
 class UtilityNode {
  public:
   UtilityNode(lcm::LCM& lcm, UtilityOptions options);
+
+  // Keeps the exploration's record (counters, next goal id, blacklist) in `path`: read back
+  // now when the file exists (a restart; returns true), rewritten atomically whenever it
+  // changes. Throws std::runtime_error naming the file when it cannot be read.
+  bool UseStateFile(const std::string& path);
+  // The last failure to write the state file, if any (the node goes on).
+  const std::optional<std::string>& state_file_error() const { return state_file_error_; }
 
   const Subscriptions& subscriptions() const { return subscriptions_; }
   int decisions() const { return manager_.decisions(); }
@@ -58,6 +66,9 @@ class UtilityNode {
   Subscriptions subscriptions_;
   std::optional<GoalDecision> last_decision_;
   double last_compute_ms_ = 0.0;
+  std::string state_file_;
+  ExplorationRecord saved_record_;
+  std::optional<std::string> state_file_error_;
 };
 
 }  // namespace aslam

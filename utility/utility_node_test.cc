@@ -1,5 +1,9 @@
 #include "utility/utility_node.h"
 
+#include <unistd.h>
+
+#include <filesystem>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -127,6 +131,7 @@ class Bench {
   }
 
   const UtilityNode& node() const { return node_; }
+  UtilityNode& mutable_node() { return node_; }
 
   std::vector<utility_scores_t> scores;
   std::vector<explore_goal_t> goals;
@@ -229,6 +234,39 @@ TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
   EXPECT_EQ(bench.node().goals_failed(), 2);
   EXPECT_EQ(bench.node().blacklist_m().size(), 3u);
   EXPECT_EQ(bench.node().subscriptions().total_dropped(), 0);
+}
+
+TEST(UtilityNode, AStateFileCarriesTheCountsAcrossARestart) {
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("aslam_utility_node_state_" + std::to_string(::getpid()) + ".yaml");
+  std::filesystem::remove(path);
+  {
+    Bench bench(UtilityMethod::kFd);
+    EXPECT_FALSE(bench.mutable_node().UseStateFile(path));  // nothing to resume
+    bench.Map(100'000);
+    bench.Pose(100'000);
+    bench.Frontiers(200'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+    bench.Nav(5'000'000, 0, nav_status_t::STATE_REACHED);
+    ASSERT_EQ(bench.node().goals_reached(), 1);
+    ASSERT_EQ(bench.node().decisions(), 2);
+    EXPECT_FALSE(bench.node().state_file_error());
+  }
+  // The restarted utility: the counts go on, the reached goal stays blacklisted, ids go on.
+  Bench restarted(UtilityMethod::kFd);
+  EXPECT_TRUE(restarted.mutable_node().UseStateFile(path));
+  EXPECT_EQ(restarted.node().goals_reached(), 1);
+  EXPECT_EQ(restarted.node().decisions(), 2);
+  ASSERT_EQ(restarted.node().blacklist_m().size(), 1u);
+  restarted.Map(6'000'000);
+  restarted.Pose(6'000'000);
+  restarted.Frontiers(6'100'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+  ASSERT_FALSE(restarted.scores.empty());
+  EXPECT_EQ(restarted.scores.back().chosen_frontier_id, 9);  // 7 was reached before the restart
+  ASSERT_FALSE(restarted.goals.empty());
+  EXPECT_EQ(restarted.goals.back().goal_id, 2);
+  EXPECT_EQ(restarted.statuses.back().decisions, 3);
+  EXPECT_EQ(restarted.statuses.back().goals_reached, 1);
+  std::filesystem::remove(path);
 }
 
 TEST(UtilityNode, DoneAfterTheTimeoutWithoutAnEligibleFrontier) {
