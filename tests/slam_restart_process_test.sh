@@ -10,7 +10,7 @@ build="$2"
 slam="$build/slam/aslam-slam"
 sim="$build/drivers/sim/aslam-sim"
 
-port_base=8300
+port_base=8500
 source "$src/tests/process_test_lib.sh"
 
 run="$out/run"
