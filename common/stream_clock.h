@@ -3,7 +3,9 @@
 // The clock of one message stream (a sensor's stamps): stamps must move forward by at
 // most a gap. A stamp out of line (not later, or a jump) is held back, so one bad stamp
 // costs only its message; `resync_messages` out-of-line stamps in a row that follow one
-// another restart the clock from them, so a real clock step is followed.
+// another restart the clock from them, so a real clock step is followed. Streams merged
+// from several channels arrive slightly out of order: a `late_tolerance_us` accepts stamps
+// that far behind the clock without moving it.
 
 #include <cstdint>
 
@@ -18,16 +20,25 @@ class StreamClock {
  public:
   enum class Verdict {
     kInLine,     // accepted: follows the clock
+    kLate,       // accepted: behind the clock by at most the late tolerance (clock unchanged)
     kResynced,   // accepted: the last of the out-of-line stamps that restart the clock
     kBackwards,  // held back: not after the clock
     kJump,       // held back: later than the clock by more than the gap
   };
 
-  StreamClock(int64_t max_gap_us, int resync_messages)
-      : max_gap_us_(max_gap_us), resync_messages_(resync_messages) {}
+  StreamClock(int64_t max_gap_us, int resync_messages, int64_t late_tolerance_us = 0)
+      : max_gap_us_(max_gap_us),
+        resync_messages_(resync_messages),
+        late_tolerance_us_(late_tolerance_us) {}
 
   Verdict Offer(int64_t utime) {
-    if (!started_ || Follows(now_utime_, utime)) return Accept(utime, Verdict::kInLine);
+    if (!started_ || (utime > now_utime_ && utime - now_utime_ <= max_gap_us_)) {
+      return Accept(utime, Verdict::kInLine);
+    }
+    if (late_tolerance_us_ > 0 && utime <= now_utime_ && now_utime_ - utime <= late_tolerance_us_) {
+      held_back_ = 0;
+      return Verdict::kLate;
+    }
     if (held_back_ == 0 || !Follows(last_held_utime_, utime)) held_back_ = 0;
     ++held_back_;
     last_held_utime_ = utime;
@@ -35,7 +46,8 @@ class StreamClock {
     return utime <= now_utime_ ? Verdict::kBackwards : Verdict::kJump;
   }
   static bool Accepted(Verdict verdict) {
-    return verdict == Verdict::kInLine || verdict == Verdict::kResynced;
+    return verdict == Verdict::kInLine || verdict == Verdict::kLate ||
+           verdict == Verdict::kResynced;
   }
 
   bool started() const { return started_; }
@@ -43,7 +55,10 @@ class StreamClock {
   int64_t resyncs() const { return resyncs_; }
 
  private:
-  bool Follows(int64_t from, int64_t to) const { return to > from && to - from <= max_gap_us_; }
+  // Whether held-back stamps agree: in order (up to the late tolerance), within the gap.
+  bool Follows(int64_t from, int64_t to) const {
+    return to > from - late_tolerance_us_ && to - from <= max_gap_us_;
+  }
   Verdict Accept(int64_t utime, Verdict verdict) {
     if (verdict == Verdict::kResynced) ++resyncs_;
     started_ = true;
@@ -54,6 +69,7 @@ class StreamClock {
 
   int64_t max_gap_us_;
   int resync_messages_;
+  int64_t late_tolerance_us_;
   bool started_ = false;
   int64_t now_utime_ = 0;
   int held_back_ = 0;

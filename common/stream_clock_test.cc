@@ -47,5 +47,19 @@ TEST(StreamClock, HeldBackStampsMustFollowOneAnother) {
   EXPECT_EQ(clock.Offer(2000 * kSecond + 90000), Verdict::kResynced);
 }
 
+TEST(StreamClock, MergedStreamsMayRunLateWithoutMovingTheClock) {
+  StreamClock clock(kSecond, 3, /*late_tolerance_us=*/kSecond);
+  ASSERT_EQ(clock.Offer(10 * kSecond), Verdict::kInLine);
+  EXPECT_EQ(clock.Offer(10 * kSecond - 300000), Verdict::kLate);
+  EXPECT_EQ(clock.Offer(10 * kSecond), Verdict::kLate);
+  EXPECT_EQ(clock.now_utime(), 10 * kSecond);
+  EXPECT_EQ(clock.Offer(10 * kSecond + 50000), Verdict::kInLine);
+  // Far behind is still a step back, followed after three that agree (in any near order).
+  EXPECT_EQ(clock.Offer(2 * kSecond), Verdict::kBackwards);
+  EXPECT_EQ(clock.Offer(2 * kSecond - 100000), Verdict::kBackwards);
+  EXPECT_EQ(clock.Offer(2 * kSecond + 100000), Verdict::kResynced);
+  EXPECT_EQ(clock.now_utime(), 2 * kSecond + 100000);
+}
+
 }  // namespace
 }  // namespace aslam

@@ -152,7 +152,13 @@ void ExplorationManager::Restore(const ExplorationRecord& record) {
 }
 
 ExploreActions ExplorationManager::AfterInput(int64_t utime) {
-  latest_utime_ = std::max(latest_utime_, utime);
+  if (clock_.Offer(utime) == StreamClock::Verdict::kResynced) {
+    // The clock stepped: the timers restart from the new time.
+    last_status_utime_.reset();
+    if (no_eligible_since_utime_) no_eligible_since_utime_ = clock_.now_utime();
+    if (goal_) goal_->published_utime = clock_.now_utime();
+  }
+  latest_utime_ = clock_.now_utime();
   ExploreActions actions;
   if (decision_pending_ && Ready()) {
     // The decision's own status goes out with OnDecision, so no heartbeat is due after it.

@@ -21,6 +21,7 @@
 #include "common/pose2d.h"
 #include "common/pose_graph.h"
 #include "common/sensor_types.h"
+#include "common/stream_clock.h"
 #include "frontier/frontier.h"
 #include "navigation/navigator.h"
 #include "utility/goal_selector.h"
@@ -146,7 +147,11 @@ class ExplorationManager {
   PoseGraph graph_;
   std::optional<FrontierList> frontiers_;
 
-  int64_t latest_utime_ = 0;  // the largest utime of any accepted input
+  int64_t latest_utime_ = 0;  // the exploration's clock: the latest in-line input's utime
+  // Inputs come from several channels, slightly out of order, and may be far apart in tests
+  // and replays; a stamp far off (a bad clock) must neither end the exploration early
+  // (done timer) nor freeze the heartbeat, and a real clock step is followed.
+  StreamClock clock_{60'000'000, kDefaultResyncMessages, /*late_tolerance_us=*/60'000'000};
   std::optional<int64_t> last_status_utime_;
   bool decision_pending_ = true;  // no goal yet: decide as soon as the inputs allow
 

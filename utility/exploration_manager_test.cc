@@ -360,6 +360,29 @@ TEST(ExplorationManager, DoneAfterTheTimeoutWithoutAnEligibleFrontierUntilOneApp
   EXPECT_EQ(again.status->detail, "no eligible frontier for 0.0 s");
 }
 
+TEST(ExplorationManager, AStampFarOffEndsNothingAndAClockStepIsFollowed) {
+  ExplorationManager m = Manager(UtilityMethod::kFd, /*done_timeout_s=*/5.0);
+  MapAndPose(m, 600 * kSecond);
+  ASSERT_TRUE(m.OnFrontiers(Frontiers(600 * kSecond, {})).decision.has_value());
+  m.OnDecision(NoGoal());
+  // One pose stamped 1000 s ahead: not 1000 s without a frontier, so not done.
+  m.OnPose(StampedPose{1600 * kSecond, {}, 0.0, 0.0});
+  EXPECT_EQ(m.status().state, ExploreState::kExploring);
+  EXPECT_EQ(m.status().detail, "no eligible frontier for 0.0 s");
+  m.OnPose(StampedPose{601 * kSecond, {}, 0.0, 0.0});
+  EXPECT_EQ(m.status().detail, "no eligible frontier for 1.0 s");
+
+  // The host clock steps 500 s back: after three inputs the timers run on the new clock,
+  // and the heartbeat goes on.
+  int statuses = 0;
+  for (int64_t t = 100 * kSecond; t <= 108 * kSecond; t += kSecond / 2) {
+    if (m.OnPose(StampedPose{t, {}, 0.0, 0.0}).status) ++statuses;
+  }
+  EXPECT_GE(statuses, 7);  // at 1 Hz over the last ~7 s
+  EXPECT_EQ(m.status().state, ExploreState::kDone);
+  EXPECT_EQ(m.status().detail, "no eligible frontier for 7.0 s");
+}
+
 TEST(ExplorationManager, StatusHeartbeatAtOneHertzOfMessageTime) {
   ExplorationManager m = Manager();
   std::vector<int64_t> heartbeats;
