@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "aslam/odometry_t.hpp"
+#include "aslam/pose_graph_t.hpp"
+#include "aslam/pose_t.hpp"
 #include "aslam/velocity_command_t.hpp"
 #include "common/cpu_time.h"
 #include "common/inproc_host.h"
@@ -66,6 +68,43 @@ TEST(Subscriptions, DecodesHandlesAndCountsBadMessages) {
   EXPECT_EQ(stats.handler_errors, 1);
   EXPECT_EQ(subs.total_dropped(), 4);
   EXPECT_EQ(subs.stats("NO_SUCH_CHANNEL").received, 0);
+}
+
+// lcm-gen's decoders resize arrays to the count they read before reading the elements, and
+// throw on an empty string length; lcmtypes/guard_array_counts.cmake makes both refusals.
+TEST(Subscriptions, ImpossibleCountsAndLengthsAreDecodeFailures) {
+  pose_graph_t graph{};
+  std::vector<uint8_t> bytes(graph.getEncodedSize());
+  ASSERT_EQ(graph.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  // num_edges is the last field (no edges follow): claim 2^31 - 1 of them, then -5.
+  for (const uint32_t count : {0x7fffffffu, 0xfffffffbu}) {
+    for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + i] = (count >> (24 - 8 * i)) & 0xff;
+    pose_graph_t decoded;
+    EXPECT_LT(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
+    EXPECT_TRUE(decoded.edges.empty());
+  }
+
+  // A string whose length (which counts its NUL) is 0 or negative.
+  pose_t pose{};
+  pose.frame = "map";
+  std::vector<uint8_t> pose_bytes(pose.getEncodedSize());
+  ASSERT_GT(pose.encode(pose_bytes.data(), 0, static_cast<int>(pose_bytes.size())), 0);
+  for (const uint32_t length : {0u, 0xfffffff0u}) {
+    for (int i = 0; i < 4; ++i) pose_bytes[8 + 8 + i] = (length >> (24 - 8 * i)) & 0xff;
+    pose_t decoded;
+    EXPECT_LT(decoded.decode(pose_bytes.data(), 0, static_cast<int>(pose_bytes.size())), 0);
+  }
+
+  InProcessHost host;
+  Subscriptions subs(host.lcm());
+  int handled = 0;
+  subs.Add<pose_graph_t>("POSE_GRAPH", [&](const pose_graph_t&) { return ++handled > 0; });
+  host.lcm().publish("POSE_GRAPH", bytes.data(), static_cast<unsigned>(bytes.size()));
+  host.DispatchPending();
+  EXPECT_EQ(handled, 0);
+  EXPECT_EQ(subs.stats("POSE_GRAPH").decode_failures, 1);
+  EXPECT_EQ(subs.stats("POSE_GRAPH").handler_errors, 0);
 }
 
 TEST(Subscriptions, ChargesEachChannelTheCpuItsHandlerUsed) {
