@@ -283,6 +283,16 @@ int DriveOn(Slam* slam, SimulatedRun* run, int scans, int64_t offset_us = 0) {
   return accepted;
 }
 
+// The first scan (it anchors "map") and 10 more driving on; returns the truth at the first.
+Pose2d StartAndDriveOn(Slam* slam, SimulatedRun* run) {
+  auto [odometry, scan] = run->NextScan({0, 0.0, 0.0});
+  const Pose2d start_truth = run->truth();
+  EXPECT_TRUE(slam->AddOdometry(odometry));
+  EXPECT_TRUE(slam->AddScan(scan).accepted);
+  EXPECT_EQ(DriveOn(slam, run, 10), 10);
+  return start_truth;
+}
+
 void ExpectNearTruth(const Slam& slam, const Pose2d& start_truth, const Pose2d& truth,
                      double tolerance_m) {
   const Pose2d truth_in_map = start_truth.Between(truth);
@@ -294,11 +304,7 @@ void ExpectNearTruth(const Slam& slam, const Pose2d& start_truth, const Pose2d& 
 TEST(Slam, OneStampFarInTheFutureCostsOnlyThatMessage) {
   Slam slam(SlamOptions{});
   SimulatedRun run;
-  auto [first_odometry, first_scan] = run.NextScan({0, 0.0, 0.0});
-  const Pose2d start_truth = run.truth();
-  ASSERT_TRUE(slam.AddOdometry(first_odometry));
-  ASSERT_TRUE(slam.AddScan(first_scan).accepted);
-  ASSERT_EQ(DriveOn(&slam, &run, 10), 10);
+  const Pose2d start_truth = StartAndDriveOn(&slam, &run);
 
   auto [odometry, scan] = run.NextScan({0, 0.4, 0.0});
   Odometry future_odometry = odometry;
@@ -324,11 +330,7 @@ TEST(Slam, ClockSteppedBackIsFollowedAfterAFewMessages) {
   SlamOptions options;
   Slam slam(options);
   SimulatedRun run;
-  auto [first_odometry, first_scan] = run.NextScan({0, 0.0, 0.0});
-  const Pose2d start_truth = run.truth();
-  ASSERT_TRUE(slam.AddOdometry(first_odometry));
-  ASSERT_TRUE(slam.AddScan(first_scan).accepted);
-  ASSERT_EQ(DriveOn(&slam, &run, 10), 10);
+  const Pose2d start_truth = StartAndDriveOn(&slam, &run);
   const std::size_t keyframes_before = slam.graph().nodes.size();
 
   // Both clocks step 1000 s back (a host clock reset) and carry on from there.
