@@ -298,7 +298,8 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
     case StreamClock::Verdict::kBackwards: Drop(DropReason::kScanTimeBackwards); return update;
     case StreamClock::Verdict::kJump: Drop(DropReason::kScanTimeJump); return update;
     case StreamClock::Verdict::kResynced: ++counters_.scan_clock_resyncs; break;
-    case StreamClock::Verdict::kInLine: break;
+    case StreamClock::Verdict::kInLine:
+    case StreamClock::Verdict::kLate: break;  // late: only with a tolerance, which scans have not
   }
   const std::optional<Pose2d> odom_pose = OdometryAt(scan.utime);
   if (!odom_pose) {
