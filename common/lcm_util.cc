@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <utility>
 
 #include "common/cpu_time.h"
 
@@ -31,6 +32,23 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url) {
 
 Subscriptions::~Subscriptions() {
   for (auto& entry : entries_) lcm_.unsubscribe(entry->subscription);
+}
+
+void Subscriptions::AddEntry(const std::string& channel,
+                             std::function<Outcome(const lcm::ReceiveBuffer&)> decode_and_handle) {
+  auto entry = std::make_unique<Entry>();
+  entry->channel = channel;
+  entry->decode_and_handle = std::move(decode_and_handle);
+  entry->subscription = lcm_.subscribe(channel, &Entry::OnMessage, entry.get());
+  entries_.push_back(std::move(entry));
+}
+
+bool Subscriptions::StartsWithFingerprint(const lcm::ReceiveBuffer& rbuf, int64_t hash) {
+  if (rbuf.data_size < 8) return false;
+  const auto* bytes = static_cast<const uint8_t*>(rbuf.data);
+  uint64_t first = 0;
+  for (int i = 0; i < 8; ++i) first = (first << 8) | bytes[i];
+  return first == static_cast<uint64_t>(hash);
 }
 
 void Subscriptions::Entry::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {

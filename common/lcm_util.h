@@ -45,6 +45,11 @@ class Subscriptions {
 
   template <typename MsgT>
   void Add(const std::string& channel, std::function<bool(const MsgT&)> handler);
+  // A channel whose publisher moved from LegacyT to MsgT, so logs and tools may carry
+  // either: each message goes to the handler of the type whose fingerprint it starts with.
+  template <typename MsgT, typename LegacyT>
+  void AddWithLegacy(const std::string& channel, std::function<bool(const MsgT&)> handler,
+                     std::function<bool(const LegacyT&)> legacy_handler);
 
   const ChannelStats& stats(const std::string& channel) const;
   // Sum of dropped() over all channels.
@@ -54,6 +59,13 @@ class Subscriptions {
 
  private:
   enum class Outcome { kHandled, kRejected, kDecodeFailed };
+  template <typename MsgT>
+  static Outcome DecodeAndHandle(const lcm::ReceiveBuffer& rbuf,
+                                 const std::function<bool(const MsgT&)>& handler);
+  // Whether the message's first 8 bytes are `hash`, big-endian, as LCM encodes it.
+  static bool StartsWithFingerprint(const lcm::ReceiveBuffer& rbuf, int64_t hash);
+  void AddEntry(const std::string& channel,
+                std::function<Outcome(const lcm::ReceiveBuffer&)> decode_and_handle);
   struct Entry {
     std::string channel;
     ChannelStats stats;
@@ -67,17 +79,32 @@ class Subscriptions {
 
 template <typename MsgT>
 void Subscriptions::Add(const std::string& channel, std::function<bool(const MsgT&)> handler) {
-  auto entry = std::make_unique<Entry>();
-  entry->channel = channel;
-  entry->decode_and_handle = [handler = std::move(handler)](const lcm::ReceiveBuffer& rbuf) {
-    MsgT message;
-    if (message.decode(rbuf.data, 0, rbuf.data_size) != static_cast<int>(rbuf.data_size)) {
-      return Outcome::kDecodeFailed;
+  AddEntry(channel, [handler = std::move(handler)](const lcm::ReceiveBuffer& rbuf) {
+    return DecodeAndHandle(rbuf, handler);
+  });
+}
+
+template <typename MsgT, typename LegacyT>
+void Subscriptions::AddWithLegacy(const std::string& channel,
+                                  std::function<bool(const MsgT&)> handler,
+                                  std::function<bool(const LegacyT&)> legacy_handler) {
+  AddEntry(channel, [handler = std::move(handler),
+                     legacy_handler = std::move(legacy_handler)](const lcm::ReceiveBuffer& rbuf) {
+    if (StartsWithFingerprint(rbuf, LegacyT::getHash())) {
+      return DecodeAndHandle(rbuf, legacy_handler);
     }
-    return handler(message) ? Outcome::kHandled : Outcome::kRejected;
-  };
-  entry->subscription = lcm_.subscribe(channel, &Entry::OnMessage, entry.get());
-  entries_.push_back(std::move(entry));
+    return DecodeAndHandle(rbuf, handler);
+  });
+}
+
+template <typename MsgT>
+Subscriptions::Outcome Subscriptions::DecodeAndHandle(
+    const lcm::ReceiveBuffer& rbuf, const std::function<bool(const MsgT&)>& handler) {
+  MsgT message;
+  if (message.decode(rbuf.data, 0, rbuf.data_size) != static_cast<int>(rbuf.data_size)) {
+    return Outcome::kDecodeFailed;
+  }
+  return handler(message) ? Outcome::kHandled : Outcome::kRejected;
 }
 
 }  // namespace aslam

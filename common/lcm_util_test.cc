@@ -70,6 +70,50 @@ TEST(Subscriptions, DecodesHandlesAndCountsBadMessages) {
   EXPECT_EQ(subs.stats("NO_SUCH_CHANNEL").received, 0);
 }
 
+// A channel carrying a type and its legacy twin: each message reaches its own type's handler.
+TEST(Subscriptions, AddWithLegacyDispatchesByFingerprint) {
+  InProcessHost host;
+  Subscriptions subs(host.lcm());
+  std::vector<double> speeds;
+  std::vector<double> odometry_x;
+  subs.AddWithLegacy<velocity_command_t, odometry_t>(
+      "MIXED",
+      [&](const velocity_command_t& msg) {
+        speeds.push_back(msg.linear_mps);
+        return true;
+      },
+      [&](const odometry_t& msg) {
+        odometry_x.push_back(msg.pose.x_m);
+        return msg.pose.x_m >= 0.0;
+      });
+
+  velocity_command_t command{};
+  command.linear_mps = 0.25;
+  host.lcm().publish("MIXED", &command);
+  odometry_t odometry{};
+  odometry.pose.x_m = 1.5;
+  host.lcm().publish("MIXED", &odometry);
+  odometry.pose.x_m = -1.0;  // the legacy handler's own refusal
+  host.lcm().publish("MIXED", &odometry);
+  pose_t neither{};
+  host.lcm().publish("MIXED", &neither);
+  const char short_garbage[] = "abc";
+  host.lcm().publish("MIXED", short_garbage, sizeof(short_garbage));
+  // The legacy fingerprint followed by too few bytes: a decode failure, not the other type.
+  std::vector<uint8_t> truncated(static_cast<std::size_t>(odometry.getEncodedSize()));
+  ASSERT_GT(odometry.encode(truncated.data(), 0, static_cast<int>(truncated.size())), 0);
+  truncated.resize(12);
+  host.lcm().publish("MIXED", truncated.data(), static_cast<unsigned>(truncated.size()));
+
+  EXPECT_EQ(host.DispatchPending(), 6);
+  EXPECT_EQ(speeds, (std::vector<double>{0.25}));
+  EXPECT_EQ(odometry_x, (std::vector<double>{1.5, -1.0}));
+  const ChannelStats& stats = subs.stats("MIXED");
+  EXPECT_EQ(stats.received, 2);
+  EXPECT_EQ(stats.rejected, 1);
+  EXPECT_EQ(stats.decode_failures, 3);
+}
+
 // lcm-gen's decoders resize arrays to the count they read before reading the elements, and
 // throw on an empty string length; lcmtypes/guard_array_counts.cmake makes both refusals.
 TEST(Subscriptions, ImpossibleCountsAndLengthsAreDecodeFailures) {
