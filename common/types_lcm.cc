@@ -1,13 +1,50 @@
 #include "common/types_lcm.h"
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cmath>
+#include <new>
+#include <vector>
 
 namespace aslam {
 namespace {
 
+// Deflate never expands more than about 1032:1, so a message claiming more cells than
+// that per byte is refused before anything is allocated for it.
+constexpr int64_t kMaxInflationRatio = 1032;
+// zlib's default: on maps 2-3x smaller than level 1 for about 5x its time (some 10 ms per
+// million cells, at most once a second), and every frame saved counts on a lossy link.
+constexpr int kZlibLevel = 6;
+
 bool Finite(const Pose2d& pose) {
   return std::isfinite(pose.x_m) && std::isfinite(pose.y_m) && std::isfinite(pose.yaw_rad);
+}
+
+// The geometry both grid wire types share, and the cells' value range.
+template <typename GridMsgT>
+bool ValidGeometry(const GridMsgT& msg) {
+  return msg.width_cells > 0 && msg.height_cells > 0 && msg.resolution_m > 0.0 &&
+         std::isfinite(msg.resolution_m) && std::isfinite(msg.origin.x_m) &&
+         std::isfinite(msg.origin.y_m) && msg.origin.yaw_rad == 0.0;
+}
+
+bool ValidCellValues(const std::vector<int8_t>& cells) {
+  // A branch-free min/max (vectorized): maps run to millions of cells.
+  int8_t lowest = -1, highest = 100;
+  for (const int8_t value : cells) {
+    lowest = std::min(lowest, value);
+    highest = std::max(highest, value);
+  }
+  return lowest >= -1 && highest <= 100;
+}
+
+template <typename GridMsgT>
+std::optional<MapMessage> MapFrameGrid(const GridMsgT& msg) {
+  if (msg.frame != kMapFrame) return std::nullopt;
+  std::optional<OccupancyGrid> grid = FromLcm(msg);
+  if (!grid) return std::nullopt;
+  return MapMessage{msg.utime, msg.revision, std::move(*grid)};
 }
 
 bool Symmetric(const Eigen::Matrix3d& m) {
@@ -140,29 +177,81 @@ occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revisio
 }
 
 std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg) {
-  if (msg.width_cells <= 0 || msg.height_cells <= 0 ||
+  if (!ValidGeometry(msg) ||
       static_cast<int64_t>(msg.width_cells) * msg.height_cells != msg.num_cells ||
-      !(msg.resolution_m > 0.0) || !std::isfinite(msg.resolution_m) ||
-      !std::isfinite(msg.origin.x_m) || !std::isfinite(msg.origin.y_m) ||
-      msg.origin.yaw_rad != 0.0) {
+      !ValidCellValues(msg.cells)) {
     return std::nullopt;
   }
-  // A branch-free min/max (vectorized): maps run to millions of cells.
-  int8_t lowest = -1, highest = 100;
-  for (const int8_t value : msg.cells) {
-    lowest = std::min(lowest, value);
-    highest = std::max(highest, value);
-  }
-  if (lowest < -1 || highest > 100) return std::nullopt;
   OccupancyGrid grid(msg.width_cells, msg.height_cells, msg.resolution_m,
                      {msg.origin.x_m, msg.origin.y_m});
   grid.mutable_cells() = msg.cells;
   return grid;
 }
 
-std::optional<OccupancyGrid> MapFrameGridFromLcm(const occupancy_grid_t& msg) {
-  if (msg.frame != kMapFrame) return std::nullopt;
-  return FromLcm(msg);
+compressed_occupancy_grid_t ToCompressedLcm(const OccupancyGrid& grid, int64_t utime,
+                                            int64_t revision, const std::string& frame) {
+  compressed_occupancy_grid_t msg{};
+  msg.utime = utime;
+  msg.frame = frame;
+  msg.revision = revision;
+  msg.resolution_m = grid.resolution_m();
+  msg.origin = ToLcm(Pose2d{grid.origin_m().x_m, grid.origin_m().y_m, 0.0});
+  msg.width_cells = grid.width_cells();
+  msg.height_cells = grid.height_cells();
+  msg.encoding = compressed_occupancy_grid_t::ENCODING_ZLIB;
+  const std::vector<int8_t>& cells = grid.cells();
+  uLongf size = compressBound(static_cast<uLong>(cells.size()));
+  msg.data.resize(size);
+  // Only Z_MEM_ERROR can fail with a compressBound-sized buffer: as for any allocation.
+  if (compress2(msg.data.data(), &size, reinterpret_cast<const Bytef*>(cells.data()),
+                static_cast<uLong>(cells.size()), kZlibLevel) != Z_OK) {
+    throw std::bad_alloc();
+  }
+  msg.data.resize(size);
+  msg.num_bytes = static_cast<int32_t>(size);
+  return msg;
+}
+
+std::optional<OccupancyGrid> FromLcm(const compressed_occupancy_grid_t& msg) {
+  if (!ValidGeometry(msg) || msg.encoding != compressed_occupancy_grid_t::ENCODING_ZLIB ||
+      msg.num_bytes != static_cast<int32_t>(msg.data.size())) {
+    return std::nullopt;
+  }
+  const int64_t num_cells = static_cast<int64_t>(msg.width_cells) * msg.height_cells;
+  if (num_cells > kMaxCompressedGridCells || num_cells > kMaxInflationRatio * msg.num_bytes) {
+    return std::nullopt;
+  }
+  OccupancyGrid grid(msg.width_cells, msg.height_cells, msg.resolution_m,
+                     {msg.origin.x_m, msg.origin.y_m});
+  std::vector<int8_t>& cells = grid.mutable_cells();
+  uLongf inflated = static_cast<uLongf>(cells.size());
+  uLong consumed = static_cast<uLong>(msg.data.size());
+  // Z_OK only when the stream ended; `consumed` then says whether bytes follow it.
+  if (uncompress2(reinterpret_cast<Bytef*>(cells.data()), &inflated, msg.data.data(), &consumed) !=
+          Z_OK ||
+      inflated != cells.size() || consumed != msg.data.size() || !ValidCellValues(cells)) {
+    return std::nullopt;
+  }
+  return grid;
+}
+
+std::optional<MapMessage> MapFrameGridFromLcm(const occupancy_grid_t& msg) {
+  return MapFrameGrid(msg);
+}
+
+std::optional<MapMessage> MapFrameGridFromLcm(const compressed_occupancy_grid_t& msg) {
+  return MapFrameGrid(msg);
+}
+
+void AddMapSubscription(Subscriptions& subscriptions, const std::string& channel,
+                        std::function<bool(MapMessage)> handler) {
+  auto take = [handler = std::move(handler)](std::optional<MapMessage> map) {
+    return map && handler(std::move(*map));
+  };
+  subscriptions.AddWithLegacy<compressed_occupancy_grid_t, occupancy_grid_t>(
+      channel,
+      [take](const compressed_occupancy_grid_t& m) { return take(MapFrameGridFromLcm(m)); },
+      [take](const occupancy_grid_t& m) { return take(MapFrameGridFromLcm(m)); });
 }
 
 pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,

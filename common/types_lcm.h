@@ -4,9 +4,12 @@
 // functions validate: nullopt means the message is malformed and is to be
 // dropped and counted by the caller.
 
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
+#include "aslam/compressed_occupancy_grid_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
@@ -14,6 +17,7 @@
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/velocity_command_t.hpp"
+#include "common/lcm_util.h"
 #include "common/occupancy_grid.h"
 #include "common/pose_graph.h"
 #include "common/sensor_types.h"
@@ -48,8 +52,32 @@ occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revisio
 // Rejects sizes that disagree with num_cells, non-positive resolution,
 // a rotated origin and cell values outside -1..100.
 std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg);
-// SLAM_MAP as its consumers take it: a grid in any frame but kMapFrame is rejected too.
-std::optional<OccupancyGrid> MapFrameGridFromLcm(const occupancy_grid_t& msg);
+
+// The same grid with its cells zlib-compressed (an office floor: 400 kB -> 10-30 kB).
+compressed_occupancy_grid_t ToCompressedLcm(const OccupancyGrid& grid, int64_t utime,
+                                            int64_t revision, const std::string& frame);
+// The most cells a compressed grid may claim (a 50 x 50 km floor at 5 cm), checked before
+// inflating: a few bytes of zlib could otherwise ask for gigabytes.
+inline constexpr int64_t kMaxCompressedGridCells = int64_t{1} << 30;
+// Rejects what the raw FromLcm rejects, an unknown encoding, more than
+// kMaxCompressedGridCells cells, and data that are not exactly one zlib stream of
+// width x height cells.
+std::optional<OccupancyGrid> FromLcm(const compressed_occupancy_grid_t& msg);
+
+// SLAM_MAP as its consumers take it, from either of its wire types; a grid in any frame
+// but kMapFrame is rejected too.
+struct MapMessage {
+  int64_t utime = 0;
+  int64_t revision = 0;
+  OccupancyGrid grid;
+};
+std::optional<MapMessage> MapFrameGridFromLcm(const occupancy_grid_t& msg);
+std::optional<MapMessage> MapFrameGridFromLcm(const compressed_occupancy_grid_t& msg);
+// Subscribes `handler` to `channel` (SLAM_MAP) in both wire types: SLAM publishes
+// compressed_occupancy_grid_t, older logs and tools occupancy_grid_t. Maps in another
+// frame or invalid are counted as rejected without reaching the handler.
+void AddMapSubscription(Subscriptions& subscriptions, const std::string& channel,
+                        std::function<bool(MapMessage)> handler);
 
 // POSE_GRAPH: the graph plus the publisher's revision and loop-closure counts.
 pose_graph_t ToLcm(const PoseGraph& graph, int64_t utime, int64_t revision,

@@ -104,11 +104,93 @@ TEST(TypesLcm, OnlyTheMapFrameIsAcceptedFromSlam) {
   grid.at({2, 1}) = 100;
   const auto grid_in_map = MapFrameGridFromLcm(ToLcm(grid, 99, 4, kMapFrame));
   ASSERT_TRUE(grid_in_map.has_value());
-  EXPECT_EQ(grid_in_map->cells(), grid.cells());
+  EXPECT_EQ(grid_in_map->utime, 99);
+  EXPECT_EQ(grid_in_map->revision, 4);
+  EXPECT_EQ(grid_in_map->grid.cells(), grid.cells());
   EXPECT_FALSE(MapFrameGridFromLcm(ToLcm(grid, 99, 4, "world")).has_value());
   occupancy_grid_t bad_value = ToLcm(grid, 99, 4, kMapFrame);
   bad_value.cells[0] = -2;
   EXPECT_FALSE(MapFrameGridFromLcm(bad_value).has_value());
+
+  const auto compressed_in_map = MapFrameGridFromLcm(ToCompressedLcm(grid, 98, 5, kMapFrame));
+  ASSERT_TRUE(compressed_in_map.has_value());
+  EXPECT_EQ(compressed_in_map->utime, 98);
+  EXPECT_EQ(compressed_in_map->revision, 5);
+  EXPECT_EQ(compressed_in_map->grid.cells(), grid.cells());
+  EXPECT_FALSE(MapFrameGridFromLcm(ToCompressedLcm(grid, 98, 5, "world")).has_value());
+}
+
+// A map-like grid: unknown all round, a free room, walls, some partial probabilities.
+OccupancyGrid RoomGrid() {
+  OccupancyGrid grid(300, 200, 0.05, {-3.0, -2.5});
+  for (int row = 40; row < 160; ++row) {
+    for (int col = 50; col < 250; ++col) {
+      const bool wall = row == 40 || row == 159 || col == 50 || col == 249;
+      grid.at({col, row}) =
+          wall ? 100 : static_cast<int8_t>((row * 7 + col * 3) % 11 == 0 ? 30 : 0);
+    }
+  }
+  return grid;
+}
+
+TEST(TypesLcm, CompressedGridRoundTripsThroughTheWireAndIsSmall) {
+  const OccupancyGrid grid = RoomGrid();
+  const compressed_occupancy_grid_t msg = ToCompressedLcm(grid, 1234, 7, kMapFrame);
+  EXPECT_EQ(msg.encoding, compressed_occupancy_grid_t::ENCODING_ZLIB);
+  EXPECT_EQ(msg.num_bytes, static_cast<int32_t>(msg.data.size()));
+  // Most of the 60000 cells are runs of -1 and 0.
+  EXPECT_LT(msg.data.size() * 10, grid.cells().size());
+  std::vector<uint8_t> wire(static_cast<std::size_t>(msg.getEncodedSize()));
+  ASSERT_EQ(msg.encode(wire.data(), 0, static_cast<int>(wire.size())),
+            static_cast<int>(wire.size()));
+  compressed_occupancy_grid_t decoded{};
+  ASSERT_EQ(decoded.decode(wire.data(), 0, static_cast<int>(wire.size())),
+            static_cast<int>(wire.size()));
+  const std::optional<OccupancyGrid> back = FromLcm(decoded);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->width_cells(), 300);
+  EXPECT_EQ(back->height_cells(), 200);
+  EXPECT_DOUBLE_EQ(back->resolution_m(), 0.05);
+  EXPECT_DOUBLE_EQ(back->origin_m().x_m, -3.0);
+  EXPECT_DOUBLE_EQ(back->origin_m().y_m, -2.5);
+  EXPECT_EQ(back->cells(), grid.cells());
+}
+
+TEST(TypesLcm, CompressedGridRejectsWhatCannotBeTheMap) {
+  const OccupancyGrid grid = RoomGrid();
+  const compressed_occupancy_grid_t msg = ToCompressedLcm(grid, 1234, 7, kMapFrame);
+  ASSERT_TRUE(FromLcm(msg).has_value());
+  auto rejected = [&](const std::function<void(compressed_occupancy_grid_t&)>& change) {
+    compressed_occupancy_grid_t bad = msg;
+    change(bad);
+    return !FromLcm(bad).has_value();
+  };
+  EXPECT_TRUE(rejected([](auto& m) { m.encoding = 2; }));
+  EXPECT_TRUE(rejected([](auto& m) { m.width_cells = 299; }));   // inflates to too many cells
+  EXPECT_TRUE(rejected([](auto& m) { m.height_cells = 201; }));  // to too few
+  EXPECT_TRUE(rejected([](auto& m) { m.width_cells = 0; }));
+  EXPECT_TRUE(rejected([](auto& m) { m.resolution_m = -0.05; }));
+  EXPECT_TRUE(rejected([](auto& m) { m.origin.yaw_rad = 0.1; }));
+  EXPECT_TRUE(rejected([](auto& m) { m.origin.x_m = std::numeric_limits<double>::infinity(); }));
+  EXPECT_TRUE(rejected([](auto& m) { m.num_bytes -= 1; }));  // disagrees with data
+  EXPECT_TRUE(rejected([](auto& m) {                         // stream cut short
+    m.data.resize(m.data.size() / 2);
+    m.num_bytes = static_cast<int32_t>(m.data.size());
+  }));
+  EXPECT_TRUE(rejected([](auto& m) {  // bytes after the stream's end
+    m.data.push_back(0);
+    m.num_bytes += 1;
+  }));
+  EXPECT_TRUE(rejected([](auto& m) { m.data[m.data.size() / 2] ^= 0x5a; }));  // damaged
+  // A few bytes claiming a 1e9-cell grid: refused before anything is inflated.
+  EXPECT_TRUE(rejected([](auto& m) {
+    m.width_cells = 40000;
+    m.height_cells = 25000;
+  }));
+
+  OccupancyGrid out_of_range = grid;
+  out_of_range.at({0, 0}) = 101;
+  EXPECT_FALSE(FromLcm(ToCompressedLcm(out_of_range, 1, 1, kMapFrame)).has_value());
 }
 
 PoseGraph SmallGraph() {

@@ -23,7 +23,6 @@
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
 #include "aslam/frontier_list_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/procman_status_t.hpp"

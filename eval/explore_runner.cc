@@ -10,7 +10,6 @@
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
 #include "aslam/frontier_list_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/sim_status_t.hpp"
@@ -98,7 +97,10 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   Simulator simulator(world.map.grid, start, sim_options);
   InProcessHost host;
   SimNode sim_node(host.lcm(), simulator, {options.world, std::nullopt});
-  SlamNode slam_node(host.lcm(), slam_config.slam, slam_config.node);
+  SlamNodeOptions slam_node_options = slam_config.node;
+  // memq loses nothing, and compressing and inflating every map would cost the run time.
+  slam_node_options.map_encoding = SlamNodeOptions::MapEncoding::kRaw;
+  SlamNode slam_node(host.lcm(), slam_config.slam, slam_node_options);
   FrontierNode frontier_node(host.lcm(), frontier_options);
   UtilityNode utility_node(host.lcm(), utility_options);
   NavNode nav_node(host.lcm(), nav_options);

@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "aslam/frontier_list_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/sim_status_t.hpp"
@@ -70,10 +69,8 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
     path_.push_back({anchor.id, offset});
     return true;
   });
-  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
-    auto grid = FromLcm(m);
-    if (!grid) return false;
-    map_ = std::move(*grid);
+  AddMapSubscription(subscriptions_, channels::kSlamMap, [this](MapMessage m) {
+    map_ = std::move(m.grid);
     coverage_stale_ = true;
     return true;
   });

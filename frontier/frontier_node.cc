@@ -11,17 +11,15 @@ namespace aslam {
 
 FrontierNode::FrontierNode(lcm::LCM& lcm, FrontierOptions options)
     : lcm_(lcm), extractor_(std::move(options)), subscriptions_(lcm) {
-  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap,
-                                       [this](const occupancy_grid_t& m) { return OnMap(m); });
+  AddMapSubscription(subscriptions_, channels::kSlamMap,
+                     [this](MapMessage m) { return OnMap(std::move(m)); });
   subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
 }
 
-bool FrontierNode::OnMap(const occupancy_grid_t& msg) {
-  std::optional<OccupancyGrid> map = MapFrameGridFromLcm(msg);
-  if (!map) return false;
+bool FrontierNode::OnMap(MapMessage msg) {
   // "New" = different: a restarted SLAM counts its revisions from the start again.
   if (extracted_revision_ && *extracted_revision_ == msg.revision) return true;
-  map_ = std::move(map);
+  map_ = std::move(msg.grid);
   map_utime_ = msg.utime;
   map_revision_ = msg.revision;
   map_pending_ = true;

@@ -11,11 +11,11 @@
 #include <lcm/lcm-cpp.hpp>
 #include <optional>
 
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/lcm_util.h"
 #include "common/occupancy_grid.h"
 #include "common/sensor_types.h"
+#include "common/types_lcm.h"
 #include "frontier/frontier.h"
 #include "frontier/frontier_extractor.h"
 
@@ -31,7 +31,7 @@ class FrontierNode {
   int64_t lists_published() const { return lists_published_; }
 
  private:
-  bool OnMap(const occupancy_grid_t& msg);
+  bool OnMap(MapMessage msg);
   bool OnPose(const pose_t& msg);
   void ExtractAndPublish();
 

@@ -17,8 +17,8 @@ constexpr int64_t kStatusHeartbeatUs = 1'000'000;
 NavNode::NavNode(lcm::LCM& lcm, NavOptions options)
     : lcm_(lcm), navigator_(std::move(options)), subscriptions_(lcm) {
   subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
-  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap,
-                                       [this](const occupancy_grid_t& m) { return OnMap(m); });
+  AddMapSubscription(subscriptions_, channels::kSlamMap,
+                     [this](MapMessage m) { return OnMap(std::move(m)); });
   subscriptions_.Add<lidar_scan_t>(channels::kLidarScan,
                                    [this](const lidar_scan_t& m) { return OnScan(m); });
   subscriptions_.Add<explore_goal_t>(channels::kExploreGoal,
@@ -43,11 +43,9 @@ bool NavNode::OnPose(const pose_t& msg) {
   return true;
 }
 
-bool NavNode::OnMap(const occupancy_grid_t& msg) {
-  const auto map = MapFrameGridFromLcm(msg);
-  if (!map) return false;
+bool NavNode::OnMap(MapMessage msg) {
   NoteTime(msg.utime);
-  navigator_.SetMap(*map);
+  navigator_.SetMap(msg.grid);
   return true;
 }
 

@@ -13,10 +13,10 @@
 
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/lcm_util.h"
 #include "common/stream_clock.h"
+#include "common/types_lcm.h"
 #include "navigation/nav_config.h"
 #include "navigation/navigator.h"
 
@@ -36,7 +36,7 @@ class NavNode {
 
  private:
   bool OnPose(const pose_t& msg);
-  bool OnMap(const occupancy_grid_t& msg);
+  bool OnMap(MapMessage msg);
   bool OnScan(const lidar_scan_t& msg);
   bool OnGoal(const explore_goal_t& msg);
   void PublishStatus(const NavStatus& status);

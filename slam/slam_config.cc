@@ -92,6 +92,15 @@ void LoadInput(const ConfigReader& c, InputOptions* o) {
 void LoadNode(const ConfigReader& c, SlamNodeOptions* o) {
   c.ReadInRange("map_period_s", &o->map_period_s, 0.0, 3600.0);
   c.ReadInRange("republish_period_s", &o->republish_period_s, 0.1, 3600.0);
+  std::string encoding = o->map_encoding == SlamNodeOptions::MapEncoding::kRaw ? "raw" : "zlib";
+  c.Read("map_encoding", &encoding);
+  if (encoding == "zlib") {
+    o->map_encoding = SlamNodeOptions::MapEncoding::kZlib;
+  } else if (encoding == "raw") {
+    o->map_encoding = SlamNodeOptions::MapEncoding::kRaw;
+  } else {
+    c.Fail("map_encoding", "must be zlib or raw");
+  }
 }
 
 // The library's own checks, reported against the file and section.

@@ -19,6 +19,11 @@ struct SlamNodeOptions {
   // SLAM_MAP and POSE_GRAPH again after this many seconds of message time without a change,
   // so a node that restarted (or a viewer that joined) gets them without waiting for one.
   double republish_period_s = 5.0;
+  // SLAM_MAP's wire type. kZlib (compressed_occupancy_grid_t): a whole map in one or a few
+  // datagrams, so it survives a lossy link. kRaw (occupancy_grid_t): for a bus that loses
+  // nothing and where the compression's cost would show, the in-process runner's memq.
+  enum class MapEncoding { kZlib, kRaw };
+  MapEncoding map_encoding = MapEncoding::kZlib;
 };
 
 struct SlamConfig {

@@ -84,6 +84,7 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
 
   EXPECT_EQ(a.node.map_period_s, b.node.map_period_s);
   EXPECT_EQ(a.node.republish_period_s, b.node.republish_period_s);
+  EXPECT_EQ(a.node.map_encoding, b.node.map_encoding);
 }
 
 // Tripwire: a field added to an options struct changes its size (mostly), and
@@ -136,7 +137,11 @@ static_assert(sizeof(ScanMatcherOptions) == sizeof(ScanMatcherFields));
 static_assert(sizeof(PoseGraphOptimizerOptions) == sizeof(OptimizerFields));
 static_assert(sizeof(OccupancyMapperOptions) == sizeof(MapperFields));
 static_assert(sizeof(InputOptions) == sizeof(InputFields));
-static_assert(sizeof(SlamNodeOptions) == 2 * sizeof(double));
+struct NodeFields {
+  double d[2];
+  int e;
+};
+static_assert(sizeof(SlamNodeOptions) == sizeof(NodeFields));
 
 TEST(SlamConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   const SlamConfig shipped = LoadSlamConfigFromFile(kShippedConfig);
@@ -218,7 +223,7 @@ slam:
     odometry_buffer_s: 4.0
     max_time_gap_s: 2.5
     resync_messages: 5
-  node: {map_period_s: 2.0, republish_period_s: 7.5}
+  node: {map_period_s: 2.0, republish_period_s: 7.5, map_encoding: raw}
 )",
                                                                "slam"));
   const SlamOptions& o = c.slam;
@@ -278,6 +283,7 @@ slam:
   EXPECT_EQ(o.input.resync_messages, 5);
   EXPECT_EQ(c.node.map_period_s, 2.0);
   EXPECT_EQ(c.node.republish_period_s, 7.5);
+  EXPECT_EQ(c.node.map_encoding, SlamNodeOptions::MapEncoding::kRaw);
 }
 
 TEST(SlamConfig, BadValuesNameFileKeyAndValue) {
@@ -299,6 +305,9 @@ TEST(SlamConfig, BadValuesNameFileKeyAndValue) {
               AllOf(HasSubstr("slam.map_thinning.max_revealed_area_m2"), HasSubstr("'-1'")));
   EXPECT_THAT(ErrorOf("slam:\n  node: {map_period_s: -1}\n"),
               AllOf(HasSubstr("slam.node.map_period_s"), HasSubstr("'-1'")));
+  EXPECT_THAT(
+      ErrorOf("slam:\n  node: {map_encoding: png}\n"),
+      AllOf(HasSubstr("slam.node.map_encoding"), HasSubstr("'png'"), HasSubstr("zlib or raw")));
 }
 
 TEST(SlamConfig, UnknownKeysAreNamed) {

@@ -30,8 +30,4 @@ pose_graph_t SlamGraphToLcm(const Slam& slam, int64_t utime) {
                Saturated(counters.loop_closures_rejected));
 }
 
-occupancy_grid_t SlamMapToLcm(const OccupancyGrid& map, int64_t utime, int64_t revision) {
-  return ToLcm(map, utime, revision, kMapFrame);
-}
-
 }  // namespace aslam

@@ -1,16 +1,14 @@
 #pragma once
 
 // Translators from the SLAM library's outputs to the messages aslam-slam
-// publishes: SLAM_POSE, POSE_GRAPH and SLAM_MAP, all in frame "map".
+// publishes: SLAM_POSE and POSE_GRAPH, in frame "map" (SLAM_MAP: common/types_lcm.h).
 
 #include <cstdint>
 
 #include <Eigen/Core>
 
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
-#include "common/occupancy_grid.h"
 #include "common/sensor_types.h"
 #include "slam/slam.h"
 
@@ -21,8 +19,5 @@ pose_t SlamPoseToLcm(const StampedPose& pose, const Eigen::Matrix3d& covariance)
 
 // POSE_GRAPH: the current graph with its revision and the loop-closure counters.
 pose_graph_t SlamGraphToLcm(const Slam& slam, int64_t utime);
-
-// SLAM_MAP: the rendered map with its revision.
-occupancy_grid_t SlamMapToLcm(const OccupancyGrid& map, int64_t utime, int64_t revision);
 
 }  // namespace aslam

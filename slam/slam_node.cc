@@ -91,8 +91,14 @@ void SlamNode::PublishGraph(int64_t utime) {
 void SlamNode::PublishMap(int64_t utime) {
   const OccupancyGrid map = slam_.RenderMap();
   if (map.empty()) return;
-  const occupancy_grid_t msg = SlamMapToLcm(map, utime, slam_.map_revision());
-  lcm_.publish(channels::kSlamMap, &msg);
+  if (node_options_.map_encoding == SlamNodeOptions::MapEncoding::kRaw) {
+    const occupancy_grid_t msg = ToLcm(map, utime, slam_.map_revision(), kMapFrame);
+    lcm_.publish(channels::kSlamMap, &msg);
+  } else {
+    const compressed_occupancy_grid_t msg =
+        ToCompressedLcm(map, utime, slam_.map_revision(), kMapFrame);
+    lcm_.publish(channels::kSlamMap, &msg);
+  }
   published_map_revision_ = slam_.map_revision();
   last_map_utime_ = utime;
   ++maps_published_;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "aslam/compressed_occupancy_grid_t.hpp"
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
@@ -73,10 +74,11 @@ class Harness {
       graphs.push_back(m);
       return true;
     });
-    listener_.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
-      maps.push_back(m);
-      return true;
-    });
+    listener_.Add<compressed_occupancy_grid_t>(channels::kSlamMap,
+                                               [this](const compressed_occupancy_grid_t& m) {
+                                                 maps.push_back(m);
+                                                 return true;
+                                               });
   }
 
   void RunFor(double seconds) {
@@ -107,7 +109,7 @@ class Harness {
   std::vector<pose_t> truth;
   std::vector<pose_t> poses;
   std::vector<pose_graph_t> graphs;
-  std::vector<occupancy_grid_t> maps;
+  std::vector<compressed_occupancy_grid_t> maps;
 
  private:
   InProcessHost host_;
@@ -196,8 +198,9 @@ TEST_F(SlamNodeDrive, PublishesTheMapAtMostOncePerSecondOfMessageTimeAndAfterClo
   }
   ASSERT_FALSE(closure_utimes.empty()) << "the lap closes the loop";
   for (const int64_t utime : closure_utimes) {
-    EXPECT_TRUE(std::any_of(h.maps.begin(), h.maps.end(),
-                            [utime](const occupancy_grid_t& m) { return m.utime == utime; }))
+    EXPECT_TRUE(
+        std::any_of(h.maps.begin(), h.maps.end(),
+                    [utime](const compressed_occupancy_grid_t& m) { return m.utime == utime; }))
         << "no SLAM_MAP right after the loop closure at " << utime;
   }
   ASSERT_GE(h.maps.size(), 60u);  // the map changes all along the lap
@@ -257,15 +260,16 @@ struct Published {
       graphs.push_back(m);
       return true;
     });
-    listener.Add<occupancy_grid_t>(channels::kSlamMap, [this](const occupancy_grid_t& m) {
-      maps.push_back(m);
-      return true;
-    });
+    listener.Add<compressed_occupancy_grid_t>(channels::kSlamMap,
+                                              [this](const compressed_occupancy_grid_t& m) {
+                                                maps.push_back(m);
+                                                return true;
+                                              });
   }
   Subscriptions listener;
   std::vector<pose_t> poses;
   std::vector<pose_graph_t> graphs;
-  std::vector<occupancy_grid_t> maps;
+  std::vector<compressed_occupancy_grid_t> maps;
 };
 
 TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
@@ -324,8 +328,39 @@ TEST(SlamNode, AResumedNodeAnnouncesItsMapGraphAndPoseAtOnce) {
   EXPECT_EQ(published.graphs[0].num_nodes, static_cast<int>(keyframes));
   EXPECT_EQ(published.poses[0].frame, "map");
   EXPECT_EQ(published.poses[0].utime, published.graphs[0].utime);
-  EXPECT_GT(published.maps[0].num_cells, 1000);
+  EXPECT_GT(published.maps[0].width_cells * published.maps[0].height_cells, 1000);
   std::filesystem::remove_all(dir);
+}
+
+// map_encoding raw: the legacy wire type, for a bus that loses nothing (the in-process runner).
+TEST(SlamNode, RawMapEncodingPublishesTheUncompressedGrid) {
+  InProcessHost host;
+  SlamNodeOptions node_options;
+  node_options.map_encoding = SlamNodeOptions::MapEncoding::kRaw;
+  SlamNode node(host.lcm(), SlamOptions{}, node_options);
+  Subscriptions listener(host.lcm());
+  std::vector<MapMessage> raw_maps;
+  listener.Add<occupancy_grid_t>(channels::kSlamMap, [&](const occupancy_grid_t& m) {
+    auto map = MapFrameGridFromLcm(m);
+    if (map) raw_maps.push_back(std::move(*map));
+    return map.has_value();
+  });
+  Simulator sim(TestWorld().map.grid, TestWorld().start, SimulatorOptions{});
+  while (sim.utime() < 2'000'000) {
+    const SimStepOutput out = sim.Step();
+    if (out.odometry) {
+      const odometry_t msg = ToLcm(*out.odometry);
+      host.lcm().publish(channels::kOdometry, &msg);
+    }
+    if (out.scan) {
+      const lidar_scan_t msg = ToLcm(*out.scan);
+      host.lcm().publish(channels::kLidarScan, &msg);
+    }
+    host.DispatchPending();
+  }
+  ASSERT_EQ(raw_maps.size(), 1u);
+  EXPECT_EQ(listener.stats(channels::kSlamMap).decode_failures, 0);
+  EXPECT_EQ(raw_maps[0].grid.cells(), node.slam().RenderMap().cells());
 }
 
 TEST(SlamNode, WriteOutputsBeforeAnyScanWritesOnlyTheGraph) {

@@ -46,7 +46,7 @@ cat "$out/slam.txt" "$out/frontier.txt" "$out/utility.txt" "$out/monitor.txt"
 
 check "SLAM_POSE heard, one per scan" heard SLAM_POSE aslam.pose_t 150
 check "POSE_GRAPH heard" heard POSE_GRAPH aslam.pose_graph_t 10
-check "SLAM_MAP heard, at most 1 Hz of sim time" heard SLAM_MAP aslam.occupancy_grid_t 5
+check "SLAM_MAP heard, at most 1 Hz of sim time" heard SLAM_MAP aslam.compressed_occupancy_grid_t 5
 check "aslam-nav answered with NAV_STATUS" heard NAV_STATUS aslam.nav_status_t 150
 check "FRONTIERS heard, one per map" heard FRONTIERS aslam.frontier_list_t 5
 check "UTILITY_SCORES heard" heard UTILITY_SCORES aslam.utility_scores_t 1

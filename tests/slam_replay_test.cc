@@ -17,7 +17,6 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "aslam/lidar_scan_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
@@ -86,9 +85,9 @@ Replay RunReplay() {
     replay.graph_closures_accepted = msg.loop_closures_accepted;
     return replay.graph.has_value();
   });
-  outputs.Add<occupancy_grid_t>(channels::kSlamMap, [&](const occupancy_grid_t& msg) {
-    replay.map = FromLcm(msg);
-    return replay.map.has_value();
+  AddMapSubscription(outputs, channels::kSlamMap, [&](MapMessage msg) {
+    replay.map = std::move(msg.grid);
+    return true;
   });
 
   for (const lcm::LogEvent* event = log.readNextEvent(); event != nullptr;

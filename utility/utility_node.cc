@@ -22,8 +22,8 @@ UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
       selector_(options.selector),
       manager_(ExplorationOptions{options.selector.method, options.done_timeout_s}),
       subscriptions_(lcm) {
-  subscriptions_.Add<occupancy_grid_t>(channels::kSlamMap,
-                                       [this](const occupancy_grid_t& m) { return OnMap(m); });
+  AddMapSubscription(subscriptions_, channels::kSlamMap,
+                     [this](MapMessage m) { return OnMap(std::move(m)); });
   subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
   subscriptions_.Add<pose_graph_t>(channels::kPoseGraph,
                                    [this](const pose_graph_t& m) { return OnGraph(m); });
@@ -33,10 +33,8 @@ UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
                                    [this](const nav_status_t& m) { return OnNavStatus(m); });
 }
 
-bool UtilityNode::OnMap(const occupancy_grid_t& msg) {
-  auto map = MapFrameGridFromLcm(msg);
-  if (!map) return false;
-  Carry(manager_.OnMap(std::move(*map), msg.utime));
+bool UtilityNode::OnMap(MapMessage msg) {
+  Carry(manager_.OnMap(std::move(msg.grid), msg.utime));
   return true;
 }
 

@@ -16,10 +16,10 @@
 
 #include "aslam/frontier_list_t.hpp"
 #include "aslam/nav_status_t.hpp"
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/lcm_util.h"
+#include "common/types_lcm.h"
 #include "utility/exploration_manager.h"
 #include "utility/goal_selector.h"
 #include "utility/utility_config.h"
@@ -51,7 +51,7 @@ class UtilityNode {
   ExploreStatus status() const { return manager_.status(); }
 
  private:
-  bool OnMap(const occupancy_grid_t& msg);
+  bool OnMap(MapMessage msg);
   bool OnPose(const pose_t& msg);
   bool OnGraph(const pose_graph_t& msg);
   bool OnFrontiers(const frontier_list_t& msg);

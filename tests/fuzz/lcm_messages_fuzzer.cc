@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "aslam/compressed_occupancy_grid_t.hpp"
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/frontier_list_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
@@ -31,7 +32,7 @@ void DecodeAndTranslate(const uint8_t* data, std::size_t size, Translate transla
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace aslam;
   if (size < 1) return 0;
-  const uint8_t which = data[0] % 8;
+  const uint8_t which = data[0] % 9;
   ++data;
   --size;
   switch (which) {
@@ -64,6 +65,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
       break;
     case 7:
       DecodeAndTranslate<explore_goal_t>(data, size, [](const auto& m) { (void)FromLcm(m); });
+      break;
+    case 8:
+      DecodeAndTranslate<compressed_occupancy_grid_t>(data, size, [](const auto& m) {
+        (void)FromLcm(m);
+        (void)MapFrameGridFromLcm(m);
+      });
       break;
   }
   return 0;
