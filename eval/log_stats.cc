@@ -127,6 +127,7 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
   stats.file_bytes = static_cast<int64_t>(file_bytes);
   ScanMatcher matcher;
   std::map<std::string, CpuAccumulator> cpu_by_name;  // every name seen, RUNNING or not
+  std::map<std::string, ChannelTraffic> traffic;
   ProcessHistoryTracker history;
   int64_t& events = stats.events;
   int64_t first_us = 0;
@@ -144,6 +145,10 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
     first_us = events == 0 ? event->timestamp : std::min(first_us, event->timestamp);
     last_us = events == 0 ? event->timestamp : std::max(last_us, event->timestamp);
     ++events;
+    ChannelTraffic& channel = traffic[event->channel];
+    ++channel.messages;
+    channel.bytes += event->datalen;
+    channel.largest_bytes = std::max<int64_t>(channel.largest_bytes, event->datalen);
 
     if (event->channel == channels::kLidarScan) {
       lidar_scan_t scan;
@@ -186,6 +191,13 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
   }
   stats.truncated = stats.read_bytes < stats.file_bytes;
   stats.log_seconds = (last_us - first_us) / 1e6;
+  for (auto& [name, channel] : traffic) {
+    channel.channel = name;
+    stats.channels.push_back(std::move(channel));
+  }
+  std::stable_sort(
+      stats.channels.begin(), stats.channels.end(),
+      [](const ChannelTraffic& a, const ChannelTraffic& b) { return a.bytes > b.bytes; });
 
   for (const auto& [name, acc] : cpu_by_name) {
     ProcessCpu p;
@@ -279,6 +291,17 @@ std::string LogStatsTable(const LogStats& stats) {
                 Cell(l.max_ms, "%.2f").c_str(), static_cast<long long>(l.matched),
                 static_cast<long long>(l.unmatched_commands));
   out += line;
+  std::size_t channel_width = 7;  // "channel"
+  for (const ChannelTraffic& c : stats.channels) {
+    channel_width = std::max(channel_width, c.channel.size());
+  }
+  const int cw = static_cast<int>(channel_width);
+  out += Format("%-*s %9s %9s %11s\n", cw, "channel", "messages", "MiB", "largest kB");
+  for (const ChannelTraffic& c : stats.channels) {
+    out += Format("%-*s %9lld %9.2f %11.1f\n", cw, c.channel.c_str(),
+                  static_cast<long long>(c.messages), c.bytes / kBytesPerMib,
+                  c.largest_bytes / 1024.0);
+  }
   std::snprintf(line, sizeof line, "log: %.1f s, %lld undecodable messages\n", stats.log_seconds,
                 static_cast<long long>(stats.undecodable));
   out += line;
@@ -311,6 +334,16 @@ std::string LogStatsJson(const LogStats& stats) {
     processes += JsonObject(fields);
   }
   processes += stats.processes.empty() ? "]" : "\n  ]";
+  std::string channels = "[";
+  for (std::size_t i = 0; i < stats.channels.size(); ++i) {
+    const ChannelTraffic& c = stats.channels[i];
+    channels += i == 0 ? "\n    " : ",\n    ";
+    channels += JsonObject({{"channel", JsonString(c.channel)},
+                            {"messages", std::to_string(c.messages)},
+                            {"bytes", std::to_string(c.bytes)},
+                            {"largest_bytes", std::to_string(c.largest_bytes)}});
+  }
+  channels += stats.channels.empty() ? "]" : "\n  ]";
   const LatencyStats& l = stats.scan_to_cmd_vel;
   const std::vector<std::pair<std::string, std::string>> fields = {
       {"log_seconds", JsonNumber(stats.log_seconds)},
@@ -329,6 +362,7 @@ std::string LogStatsJson(const LogStats& stats) {
                               {"p99_ms", JsonNumber(l.p99_ms)},
                               {"max_ms", JsonNumber(l.max_ms)},
                           })},
+      {"channels", channels},
   };
   std::string out = "{\n";
   for (std::size_t i = 0; i < fields.size(); ++i) {

@@ -47,6 +47,14 @@ struct LatencyStats {
   double max_ms = std::numeric_limits<double>::quiet_NaN();
 };
 
+// One channel's messages in the log (payload bytes, without the event headers).
+struct ChannelTraffic {
+  std::string channel;
+  int64_t messages = 0;
+  int64_t bytes = 0;
+  int64_t largest_bytes = 0;
+};
+
 struct LogStats {
   double log_seconds = 0;             // first to last event, logger time
   std::vector<ProcessCpu> processes;  // highest mean CPU first; never-RUNNING ones last
@@ -63,6 +71,7 @@ struct LogStats {
   bool truncated = false;
   // Bytes between events that were not an event header, skipped to find the next one.
   int64_t skipped_bytes = 0;
+  std::vector<ChannelTraffic> channels;  // every channel, most bytes first (ties by name)
 };
 
 // A scan is kept for matching this long (logger time) after it was logged,
@@ -84,8 +93,8 @@ std::string LogStatsWarning(const LogStats& stats, const std::string& lcmlog_pat
 double NearestRankPercentile(const std::vector<double>& sorted_values, double p);
 
 // A text table: process | mean CPU % | max CPU % | share | max RSS MiB | restarts | last end, a
-// total row, then the latency line and the log length (and where a truncated
-// log stopped). NaN shows as "-".
+// total row, then the latency line, a channel | messages | MiB | largest kB table and the
+// log length (and where a truncated log stopped). NaN shows as "-".
 std::string LogStatsTable(const LogStats& stats);
 
 // One JSON object, keys in a fixed order, one per line (processes one per

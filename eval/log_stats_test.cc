@@ -308,6 +308,24 @@ TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
   ASSERT_EQ(stats.processes.size(), 1u);
   EXPECT_DOUBLE_EQ(stats.processes[0].mean_cpu_percent, 12.0);
   EXPECT_DOUBLE_EQ(stats.processes[0].share, 1.0);
+  // Every channel is counted, decodable or not; the most bytes first.
+  ASSERT_EQ(stats.channels.size(), 4u);
+  for (std::size_t i = 1; i < stats.channels.size(); ++i) {
+    EXPECT_GE(stats.channels[i - 1].bytes, stats.channels[i].bytes);
+  }
+  const auto traffic_of = [&](const std::string& name) {
+    for (const ChannelTraffic& c : stats.channels) {
+      if (c.channel == name) return c;
+    }
+    return ChannelTraffic{};
+  };
+  EXPECT_EQ(traffic_of(channels::kSlamMap).messages, 1);
+  EXPECT_EQ(traffic_of(channels::kSlamMap).bytes, 2);
+  EXPECT_EQ(traffic_of(channels::kCmdVel).messages, 2);
+  EXPECT_EQ(traffic_of(channels::kCmdVel).largest_bytes,
+            static_cast<int64_t>(Command(500).getEncodedSize()));
+  EXPECT_EQ(traffic_of(channels::kCmdVel).bytes, 3 + traffic_of(channels::kCmdVel).largest_bytes);
+  EXPECT_EQ(traffic_of(channels::kProcmanStatus).messages, 2);
 }
 
 void ExpectRuntimeErrorNaming(const std::string& path) {
@@ -359,6 +377,7 @@ TEST(LogStatsJson, FixedKeysAndNullForNaN) {
   stats.processes = {slam, idle};
   stats.scan_to_cmd_vel.matched = 0;
   stats.scan_to_cmd_vel.unmatched_commands = 1;
+  stats.channels = {{"SLAM_MAP", 2, 3000, 2000}};
   EXPECT_EQ(
       LogStatsJson(stats),
       "{\n"
@@ -381,7 +400,10 @@ TEST(LogStatsJson, FixedKeysAndNullForNaN) {
       "\"last_signal\": null}\n"
       "  ],\n"
       "  \"scan_to_cmd_vel\": {\"matched\": 0, \"unmatched_commands\": 1, \"median_ms\": null, "
-      "\"p99_ms\": null, \"max_ms\": null}\n"
+      "\"p99_ms\": null, \"max_ms\": null},\n"
+      "  \"channels\": [\n"
+      "    {\"channel\": \"SLAM_MAP\", \"messages\": 2, \"bytes\": 3000, \"largest_bytes\": 2000}\n"
+      "  ]\n"
       "}\n");
 }
 
@@ -413,6 +435,7 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
   stats.scan_to_cmd_vel.median_ms = 1.5;
   stats.scan_to_cmd_vel.p99_ms = 4.25;
   stats.scan_to_cmd_vel.max_ms = 7.0;
+  stats.channels = {{"SLAM_MAP", 449, 3 * 1024 * 1024, 20 * 1024}, {"CMD_VEL", 10, 400, 40}};
   const std::string table = LogStatsTable(stats);
   EXPECT_EQ(table,
             "process    mean CPU %  max CPU %   share  max RSS MiB restarts last end\n"
@@ -421,6 +444,9 @@ TEST(LogStatsTable, RowsInOrderWithDashForMissing) {
             "total            50.0\n"
             "LIDAR_SCAN -> CMD_VEL: median 1.50 ms, p99 4.25 ms, max 7.00 ms (10 matched, 0 "
             "unmatched commands)\n"
+            "channel   messages       MiB  largest kB\n"
+            "SLAM_MAP       449      3.00        20.0\n"
+            "CMD_VEL         10      0.00         0.0\n"
             "log: 61.0 s, 0 undecodable messages\n");
 
   const std::string empty = LogStatsTable(LogStats{});
