@@ -161,9 +161,11 @@ std::optional<StampedPose> MapFramePoseFromLcm(const pose_t& msg) {
   return FromLcm(msg);
 }
 
-occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revision,
-                       const std::string& frame) {
-  occupancy_grid_t msg{};
+// The fields both grid wire types share.
+template <typename GridMsgT>
+GridMsgT GridHeader(const OccupancyGrid& grid, int64_t utime, int64_t revision,
+                    const std::string& frame) {
+  GridMsgT msg{};
   msg.utime = utime;
   msg.frame = frame;
   msg.revision = revision;
@@ -171,6 +173,12 @@ occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revisio
   msg.origin = ToLcm(Pose2d{grid.origin_m().x_m, grid.origin_m().y_m, 0.0});
   msg.width_cells = grid.width_cells();
   msg.height_cells = grid.height_cells();
+  return msg;
+}
+
+occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revision,
+                       const std::string& frame) {
+  occupancy_grid_t msg = GridHeader<occupancy_grid_t>(grid, utime, revision, frame);
   msg.num_cells = static_cast<int32_t>(grid.cells().size());
   msg.cells = grid.cells();
   return msg;
@@ -190,14 +198,8 @@ std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg) {
 
 compressed_occupancy_grid_t ToCompressedLcm(const OccupancyGrid& grid, int64_t utime,
                                             int64_t revision, const std::string& frame) {
-  compressed_occupancy_grid_t msg{};
-  msg.utime = utime;
-  msg.frame = frame;
-  msg.revision = revision;
-  msg.resolution_m = grid.resolution_m();
-  msg.origin = ToLcm(Pose2d{grid.origin_m().x_m, grid.origin_m().y_m, 0.0});
-  msg.width_cells = grid.width_cells();
-  msg.height_cells = grid.height_cells();
+  compressed_occupancy_grid_t msg =
+      GridHeader<compressed_occupancy_grid_t>(grid, utime, revision, frame);
   msg.encoding = compressed_occupancy_grid_t::ENCODING_ZLIB;
   const std::vector<int8_t>& cells = grid.cells();
   uLongf size = compressBound(static_cast<uLong>(cells.size()));

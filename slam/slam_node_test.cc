@@ -272,14 +272,10 @@ struct Published {
   std::vector<compressed_occupancy_grid_t> maps;
 };
 
-TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
-  InProcessHost host;
-  SlamNodeOptions node_options;
-  SlamNode node(host.lcm(), SlamOptions{}, node_options);
-  Published published(host.lcm());
+// The simulator's odometry and scans of a robot that never moves, until `end_utime`.
+void PlayParkedRobot(InProcessHost& host, int64_t end_utime) {
   Simulator sim(TestWorld().map.grid, TestWorld().start, SimulatorOptions{});
-  // 12 s parked: nothing changes after the first keyframe.
-  while (sim.utime() < 12'000'000) {
+  while (sim.utime() < end_utime) {
     const SimStepOutput out = sim.Step();
     if (out.odometry) {
       const odometry_t msg = ToLcm(*out.odometry);
@@ -291,6 +287,15 @@ TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
     }
     host.DispatchPending();
   }
+}
+
+TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
+  InProcessHost host;
+  SlamNodeOptions node_options;
+  SlamNode node(host.lcm(), SlamOptions{}, node_options);
+  Published published(host.lcm());
+  // 12 s parked: nothing changes after the first keyframe.
+  PlayParkedRobot(host, 12'000'000);
   ASSERT_EQ(node.slam().graph().nodes.size(), 1u);
   // The first map, then one per republish period: a node that joins late gets them.
   const int64_t period_us = static_cast<int64_t>(node_options.republish_period_s * 1e6);
@@ -345,19 +350,7 @@ TEST(SlamNode, RawMapEncodingPublishesTheUncompressedGrid) {
     if (map) raw_maps.push_back(std::move(*map));
     return map.has_value();
   });
-  Simulator sim(TestWorld().map.grid, TestWorld().start, SimulatorOptions{});
-  while (sim.utime() < 2'000'000) {
-    const SimStepOutput out = sim.Step();
-    if (out.odometry) {
-      const odometry_t msg = ToLcm(*out.odometry);
-      host.lcm().publish(channels::kOdometry, &msg);
-    }
-    if (out.scan) {
-      const lidar_scan_t msg = ToLcm(*out.scan);
-      host.lcm().publish(channels::kLidarScan, &msg);
-    }
-    host.DispatchPending();
-  }
+  PlayParkedRobot(host, 2'000'000);
   ASSERT_EQ(raw_maps.size(), 1u);
   EXPECT_EQ(listener.stats(channels::kSlamMap).decode_failures, 0);
   EXPECT_EQ(raw_maps[0].grid.cells(), node.slam().RenderMap().cells());
