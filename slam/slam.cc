@@ -426,6 +426,19 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
   if (journal_) journal_->OnState(State());
 }
 
+SlamSnapshot Slam::Snapshot() const {
+  SlamSnapshot snapshot;
+  snapshot.graph = graph_;
+  snapshot.state = State();
+  snapshot.keyframes.reserve(keyframes_.size());
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    const Keyframe& k = keyframes_[i];
+    snapshot.keyframes.push_back(KeyframeRecord{static_cast<int>(i), k.utime, k.odom_pose,
+                                                graph_.nodes[i].pose, k.in_map, k.scan});
+  }
+  return snapshot;
+}
+
 SlamState Slam::State() const {
   return SlamState{counters_, last_closure_attempt_node_, last_mapped_odom_pose_,
                    odometry_correction_};

@@ -129,6 +129,9 @@ class Slam {
   // frame; the map is rendered from the keyframes. Only before any input; throws
   // std::invalid_argument naming what is inconsistent.
   void Restore(SlamSnapshot snapshot);
+  // What Restore would need to continue from here: the keyframes at their current poses,
+  // the graph and the front end's state.
+  SlamSnapshot Snapshot() const;
   // Every later change of the graph goes to `sink` (not owned; nullptr: none).
   void set_journal(SlamJournalSink* sink) { journal_ = sink; }
 

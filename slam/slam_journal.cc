@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -340,6 +341,7 @@ void SlamJournalWriter::OnOptimized(const std::vector<PoseGraphNode>& nodes) {
   Encoder e;
   e.Put<uint32_t>(static_cast<uint32_t>(nodes.size()));
   for (const PoseGraphNode& node : nodes) e.PutPose(node.pose);
+  pose_bytes_written_ += static_cast<int64_t>(e.bytes().size() + kRecordOverhead);
   Append(kOptimized, e.bytes());
 }
 
@@ -381,6 +383,79 @@ void SlamJournalWriter::Commit(int64_t utime) {
 void SlamJournalWriter::Sync() {
   Commit(last_sync_utime_);
   if (!error_ && ::fdatasync(fd_) != 0) Fail("sync failed: " + ErrnoText());
+}
+
+bool SlamJournalWriter::WantsRewrite() const {
+  constexpr int64_t kMinRewriteBytes = int64_t{1} << 20;
+  return !error_ && bytes_written_ > kMinRewriteBytes && 2 * pose_bytes_written_ > bytes_written_;
+}
+
+bool SlamJournalWriter::Rewrite(const SlamSnapshot& snapshot, std::string* why_not) {
+  Commit(last_sync_utime_);  // nothing of the old journal left pending
+  if (error_) {
+    *why_not = *error_;
+    return false;
+  }
+  // The records of `snapshot`, built in pending_ by the same encoders as live records.
+  pending_.assign(kMagic, sizeof(kMagic));
+  std::size_t emitted = 0;  // keyframes written so far
+  auto emit_keyframe = [&](const std::optional<PoseGraphEdge>& edge) {
+    OnKeyframe(snapshot.keyframes[emitted], edge);
+    ++emitted;
+  };
+  if (!snapshot.keyframes.empty()) emit_keyframe(std::nullopt);
+  for (const PoseGraphEdge& edge : snapshot.graph.edges) {
+    const bool sequential = edge.kind == EdgeKind::kOdometry &&
+                            edge.to_id == static_cast<int>(emitted) &&
+                            edge.from_id + 1 == edge.to_id;
+    if (sequential) {
+      emit_keyframe(edge);
+      continue;
+    }
+    const std::size_t needed = static_cast<std::size_t>(std::max(edge.from_id, edge.to_id)) + 1;
+    while (emitted < needed && emitted < snapshot.keyframes.size()) emit_keyframe(std::nullopt);
+    OnLoopClosureAdded(edge);
+  }
+  while (emitted < snapshot.keyframes.size()) emit_keyframe(std::nullopt);
+  OnState(snapshot.state);
+
+  const std::string temp_path = path_ + ".rewrite";
+  const int temp_fd = ::open(temp_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (temp_fd < 0) {
+    *why_not = "cannot create " + temp_path + ": " + ErrnoText();
+    pending_.clear();
+    pose_bytes_written_ = 0;  // try again after as many poses more
+    return false;
+  }
+  std::size_t done = 0;
+  while (done < pending_.size()) {
+    const ssize_t n = ::write(temp_fd, pending_.data() + done, pending_.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  if (done < pending_.size() || ::fdatasync(temp_fd) != 0 ||
+      ::rename(temp_path.c_str(), path_.c_str()) != 0) {
+    *why_not = "cannot write " + temp_path + ": " + ErrnoText();
+    ::close(temp_fd);
+    ::unlink(temp_path.c_str());
+    pending_.clear();  // the old journal is untouched: appending goes on there
+    pose_bytes_written_ = 0;
+    return false;
+  }
+  const std::string dir = std::filesystem::path(path_).parent_path().string();
+  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd >= 0) {
+    ::fsync(dir_fd);  // the rename itself survives a power cut
+    ::close(dir_fd);
+  }
+  ::close(fd_);
+  fd_ = temp_fd;
+  bytes_written_ = static_cast<int64_t>(pending_.size());
+  pose_bytes_written_ = 0;
+  pending_.clear();
+  ++rewrites_;
+  return true;
 }
 
 }  // namespace aslam

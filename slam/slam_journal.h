@@ -55,6 +55,17 @@ class SlamJournalWriter final : public SlamJournalSink {
   // Writes and syncs everything now.
   void Sync();
 
+  // Every optimization appends all poses, so a long session's journal grows with keyframes x
+  // closures. True once those records are more than half of the journal (and it is over
+  // 1 MiB): then Rewrite keeps it within about twice what the graph itself needs.
+  bool WantsRewrite() const;
+  // Replaces the journal with one holding `snapshot` alone (edges in the graph's order, each
+  // keyframe at its current pose): the same Slam when read back. Written beside it, synced
+  // and renamed over it, so a crash leaves the old journal or the new one, whole. On failure
+  // (returned, with why) the old journal stays and appending goes on there.
+  bool Rewrite(const SlamSnapshot& snapshot, std::string* why_not);
+  int64_t rewrites() const { return rewrites_; }
+
   const std::string& path() const { return path_; }
   const std::optional<std::string>& error() const { return error_; }
   int64_t bytes_written() const { return bytes_written_; }
@@ -69,6 +80,8 @@ class SlamJournalWriter final : public SlamJournalSink {
   int64_t last_sync_utime_ = 0;
   std::string pending_;
   int64_t bytes_written_ = 0;
+  int64_t pose_bytes_written_ = 0;  // in optimized-pose records, since the last rewrite
+  int64_t rewrites_ = 0;
   std::optional<std::string> error_;
 };
 

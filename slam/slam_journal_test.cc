@@ -207,6 +207,85 @@ TEST(SlamJournal, AResumedSlamKeepsItsIdsAndFrame) {
   ExpectSameGraph(all.snapshot.graph, graph);
 }
 
+// Rewritten from the Slam's snapshot after the loop closures, the journal reads back into the
+// same Slam, is smaller than the one that kept every optimization's poses, and what the
+// rest of the lap appends to it reads back too.
+TEST(SlamJournal, ARewriteHoldsTheSameSlamInLessSpaceAndAppendingGoesOn) {
+  TempDir dir;
+  int64_t appended_only_bytes = 0;
+  int scans = 0;
+  {
+    Slam reference(ExactMapOptions());
+    SlamJournalWriter writer(dir.File("appended.journal"), 0);
+    reference.set_journal(&writer);
+    Lap().Run([&](int scan) {
+      scans = scan + 1;
+      return &reference;
+    });
+    reference.set_journal(nullptr);
+    writer.Sync();
+    appended_only_bytes = writer.bytes_written();
+  }
+  const std::string path = dir.File("slam.journal");
+  Slam slam(ExactMapOptions());
+  SlamJournalWriter writer(path, 0);
+  slam.set_journal(&writer);
+  const int rewrite_scan = scans - 30;  // after the lap's closures, before its last keyframes
+  std::size_t keyframes_at_rewrite = 0;
+  Lap().Run([&](int scan) {
+    if (scan == rewrite_scan && writer.rewrites() == 0) {  // called every tick, not every scan
+      std::string why_not;
+      EXPECT_TRUE(writer.Rewrite(slam.Snapshot(), &why_not)) << why_not;
+      keyframes_at_rewrite = slam.graph().nodes.size();
+    }
+    return &slam;
+  });
+  slam.set_journal(nullptr);
+  writer.Sync();
+  ASSERT_FALSE(writer.error());
+  EXPECT_EQ(writer.rewrites(), 1);
+  ASSERT_GE(slam.counters().optimizations, 1);
+  EXPECT_GT(slam.graph().nodes.size(), keyframes_at_rewrite) << "keyframes appended after it";
+  EXPECT_FALSE(std::filesystem::exists(path + ".rewrite"));
+
+  const SlamJournalRead read = ReadSlamJournal(path);
+  EXPECT_FALSE(read.damage);
+  EXPECT_EQ(read.valid_bytes, static_cast<int64_t>(std::filesystem::file_size(path)));
+  EXPECT_LT(read.valid_bytes, appended_only_bytes);
+  ExpectSameGraph(read.snapshot.graph, slam.graph());
+  ASSERT_EQ(read.snapshot.keyframes.size(), slam.graph().nodes.size());
+  const SlamSnapshot live = slam.Snapshot();
+  for (std::size_t i = 0; i < live.keyframes.size(); ++i) {
+    EXPECT_EQ(read.snapshot.keyframes[i].utime, live.keyframes[i].utime);
+    EXPECT_EQ(read.snapshot.keyframes[i].in_map, live.keyframes[i].in_map);
+    EXPECT_EQ(read.snapshot.keyframes[i].scan.range_m, live.keyframes[i].scan.range_m);
+  }
+  EXPECT_EQ(read.snapshot.state.counters.loop_closures_accepted,
+            slam.counters().loop_closures_accepted);
+  Slam restored(ExactMapOptions());
+  restored.Restore(read.snapshot);
+  ExpectSameGraph(restored.graph(), slam.graph());
+}
+
+// Optimization records past half of a journal over 1 MiB ask for a rewrite.
+TEST(SlamJournal, WantsARewriteOncePosesAreMostOfIt) {
+  TempDir dir;
+  SlamJournalWriter writer(dir.File("slam.journal"), 0);
+  EXPECT_FALSE(writer.WantsRewrite());
+  const std::vector<PoseGraphNode> nodes(1000, PoseGraphNode{0, 0, {1.0, 2.0, 0.5}});
+  int64_t utime = 0;
+  while (!writer.WantsRewrite() && utime < 1000) {
+    writer.OnOptimized(nodes);
+    writer.Commit(++utime);
+  }
+  EXPECT_TRUE(writer.WantsRewrite());
+  EXPECT_GT(writer.bytes_written(), int64_t{1} << 20);
+  std::string why_not;
+  ASSERT_TRUE(writer.Rewrite(SlamSnapshot{}, &why_not)) << why_not;
+  EXPECT_FALSE(writer.WantsRewrite());
+  EXPECT_EQ(ReadSlamJournal(dir.File("slam.journal")).records, 1);  // the state
+}
+
 TEST(SlamJournal, ADamagedTailIsCutAndWritingGoesOnAfterTheLastWholeRecord) {
   TempDir dir;
   const std::string path = dir.File("slam.journal");

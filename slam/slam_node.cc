@@ -1,6 +1,7 @@
 #include "slam/slam_node.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -60,7 +61,14 @@ bool SlamNode::OnScan(const lidar_scan_t& msg) {
       elapsed(last_map_utime_, node_options_.republish_period_s)) {
     PublishMap(scan->utime);
   }
-  if (journal_) journal_->Commit(scan->utime);
+  if (journal_) {
+    journal_->Commit(scan->utime);
+    std::string why_not;
+    if (journal_->WantsRewrite() && !journal_->Rewrite(slam_.Snapshot(), &why_not)) {
+      std::fprintf(stderr, "aslam-slam: journal not compacted (%s); appending goes on\n",
+                   why_not.c_str());
+    }
+  }
   return true;
 }
 
