@@ -214,6 +214,18 @@ void Replay(uint32_t type, const std::string& payload, SlamSnapshot* s) {
 
 std::string ErrnoText() { return std::strerror(errno); }
 
+// write(2) until all of `bytes` is written; false (errno set) on the first failure.
+bool WriteAll(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
 }  // namespace
 
 SlamJournalRead ReadSlamJournal(const std::string& path) {
@@ -362,17 +374,11 @@ void SlamJournalWriter::Fail(const std::string& what) {
 
 void SlamJournalWriter::Commit(int64_t utime) {
   if (error_) return;
-  std::size_t done = 0;
-  while (done < pending_.size()) {
-    const ssize_t n = ::write(fd_, pending_.data() + done, pending_.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      Fail("write failed: " + ErrnoText());
-      return;
-    }
-    done += static_cast<std::size_t>(n);
+  if (!WriteAll(fd_, pending_)) {
+    Fail("write failed: " + ErrnoText());
+    return;
   }
-  bytes_written_ += static_cast<int64_t>(done);
+  bytes_written_ += static_cast<int64_t>(pending_.size());
   pending_.clear();
   if (utime - last_sync_utime_ >= sync_period_us_ || utime < last_sync_utime_) {
     last_sync_utime_ = utime;
@@ -427,14 +433,7 @@ bool SlamJournalWriter::Rewrite(const SlamSnapshot& snapshot, std::string* why_n
     pose_bytes_written_ = 0;  // try again after as many poses more
     return false;
   }
-  std::size_t done = 0;
-  while (done < pending_.size()) {
-    const ssize_t n = ::write(temp_fd, pending_.data() + done, pending_.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<std::size_t>(n);
-  }
-  if (done < pending_.size() || ::fdatasync(temp_fd) != 0 ||
+  if (!WriteAll(temp_fd, pending_) || ::fdatasync(temp_fd) != 0 ||
       ::rename(temp_path.c_str(), path_.c_str()) != 0) {
     *why_not = "cannot write " + temp_path + ": " + ErrnoText();
     ::close(temp_fd);
