@@ -51,8 +51,6 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   c.ReadInRange("pose_timeout_s", &o->pose_timeout_s, 0.01, 60.0);
   c.ReadInRange("progress_timeout_s", &o->progress_timeout_s, 0.1, 3600.0);
   c.ReadInRange("progress_margin_m", &o->progress_margin_m, 0.0, 100.0);
-  c.ReadInRange("max_route_switches", &o->max_route_switches, 1, 1000);
-  c.ReadInRange("route_switch_window_s", &o->route_switch_window_s, 1.0, 3600.0);
   c.ReadInRange("dwa_failures_for_recovery", &o->dwa_failures_for_recovery, 1, 10000);
   c.ReadInRange("max_recoveries", &o->max_recoveries, 0, 1000);
   if (o->goal_snap_m > o->goal_tolerance_m)

@@ -43,14 +43,9 @@ struct NavigatorOptions {
   double align_start_rad = 1.2;
   double align_done_rad = 0.3;
   double align_speed_radps = 1.5;
-  double pose_timeout_s = 0.5;       // an older pose (or scan) stops the robot
-  double progress_timeout_s = 10.0;  // no progress this long starts a recovery
-  double progress_margin_m = 0.25;   // progress = this much net advance along the paths
-  // A replan that trades the route for one longer by max(1 m, 25 %) is a route switch. This
-  // many within route_switch_window_s starts a recovery: plans flipping between two routes
-  // let the robot advance along each in turn, which the progress check counts as progress.
-  int max_route_switches = 3;
-  double route_switch_window_s = 60.0;
+  double pose_timeout_s = 0.5;        // an older pose (or scan) stops the robot
+  double progress_timeout_s = 10.0;   // no progress this long starts a recovery
+  double progress_margin_m = 0.25;    // progress = this much net advance along the paths
   int dwa_failures_for_recovery = 3;  // consecutive cycles without an admissible trajectory
   int max_recoveries = 3;             // per goal; one more need for recovery fails the goal
   RecoveryOptions recovery;

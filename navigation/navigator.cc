@@ -152,7 +152,6 @@ void Navigator::RestartClock(int64_t utime) {
 }
 
 void Navigator::ResetProgress(int64_t utime) {
-  route_switch_utimes_.clear();
   advance_m_ = 0.0;
   last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();
   last_progress_utime_ = utime;
@@ -210,7 +209,6 @@ bool Navigator::Replan(int64_t utime) {
       return false;
     }
   }
-  const double remaining_before_m = has_path_ ? DistanceRemainingM() : kInf;
   std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, target, &plan_tree_);
   if (!path || path->points_m.empty()) {
     Stop(NavState::kUnreachable,
@@ -228,9 +226,6 @@ bool Navigator::Replan(int64_t utime) {
   has_path_ = true;
   ++path_revision_;
   last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();  // the new path starts the count
-  if (path_length_m_ > remaining_before_m + std::max(1.0, 0.25 * remaining_before_m)) {
-    route_switch_utimes_.push_back(utime);
-  }
   return true;
 }
 
@@ -460,18 +455,8 @@ NavOutput Navigator::Step(int64_t utime) {
       advance_m_ = 0.0;
       last_progress_utime_ = utime;
     }
-    while (!route_switch_utimes_.empty() &&
-           utime - route_switch_utimes_.front() > Micros(n.route_switch_window_s)) {
-      route_switch_utimes_.pop_front();
-    }
     if (utime - last_progress_utime_ > Micros(n.progress_timeout_s)) {
       StartRecovery(utime, Format("no progress for %g s", n.progress_timeout_s), obstacles);
-    } else if (static_cast<int>(route_switch_utimes_.size()) >= n.max_route_switches) {
-      route_switch_utimes_.clear();
-      StartRecovery(utime,
-                    Format("the plan switched to a longer route %d times in %g s",
-                           n.max_route_switches, n.route_switch_window_s),
-                    obstacles);
     } else if (const auto turn = Align(utime, obstacles)) {
       return finish(*turn);
     } else {

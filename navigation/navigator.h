@@ -20,7 +20,6 @@
 // map plus the scan returns near the robot that the map does not explain.
 
 #include <cstdint>
-#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -160,7 +159,6 @@ class Navigator {
   double advance_m_ = 0.0;
   double last_remaining_m_ = 0.0;  // on the current path at the previous step; NaN after a plan
   int64_t last_progress_utime_ = 0;
-  std::deque<int64_t> route_switch_utimes_;  // replans onto a clearly longer route, this goal
   int dwa_failures_ = 0;
   bool aligning_ = false;  // turning in place toward the path before the DWA drives
   DwaVelocity last_velocity_;

@@ -255,48 +255,6 @@ TEST(Navigator, PlansFlippingBetweenRoutesAreNotProgress) {
   EXPECT_NEAR(recovery_utime * 1e-6, 2.1, 0.15);
 }
 
-// A robot that drives along each plan in turn advances on each, which the progress check
-// counts: the switches onto the longer route start the recovery (the doorway livelock of
-// issue 15, where the scan closes a gap only while the robot is near it).
-TEST(Navigator, AlternatingRoutesStartARecoveryWhileTheRobotMoves) {
-  NavOptions options;
-  options.navigator.progress_timeout_s = 1000.0;  // only the route switches can stop it
-  options.navigator.max_recoveries = 0;           // the first recovery fails the goal
-  Navigator navigator{options};
-  Drive drive({2.0, 5.0, 0.0});
-  navigator.SetGoal(1, {8.0, 2.5}, 0);
-  NavState state = NavState::kActive;
-  int switches_to_north = 0;
-  for (int k = 0; k < 60 && state == NavState::kActive; ++k) {
-    const bool south_open = k % 2 == 0;  // the south gap opens and closes every second
-    switches_to_north += south_open ? 0 : 1;
-    navigator.SetMap(Room(/*divider=*/true, south_open));
-    drive.Run(navigator, 1.0);
-    state = drive.outputs.back().status.state;
-  }
-  ASSERT_EQ(state, NavState::kFailed);
-  EXPECT_THAT(drive.outputs.back().status.detail,
-              HasSubstr("the plan switched to a longer route 3 times in 60 s"));
-  EXPECT_GE(switches_to_north, 3);
-  EXPECT_LT(drive.pose.x_m, 5.0);  // never got through
-}
-
-// One switch onto a longer route (the short one closed for good) is a detour, not a livelock.
-TEST(Navigator, OneDetourIsNotARouteSwitchLivelock) {
-  NavOptions options;
-  options.navigator.max_recoveries = 0;
-  Navigator navigator{options};
-  Drive drive({2.0, 5.0, 0.0});
-  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/true));
-  navigator.SetGoal(1, {8.0, 2.5}, 0);
-  drive.Run(navigator, 1.0);
-  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/false));
-  drive.Run(navigator, 120.0);
-  EXPECT_EQ(drive.outputs.back().status.state, NavState::kReached)
-      << drive.outputs.back().status.detail;
-  EXPECT_EQ(drive.outputs.back().status.recoveries_used, 0);
-}
-
 TEST(Navigator, BackOffStopsWhenTheRearIsBlocked) {
   NavOptions options;
   options.navigator.progress_timeout_s = 1.0;
