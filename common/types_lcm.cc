@@ -21,7 +21,7 @@ bool Finite(const Pose2d& pose) {
   return std::isfinite(pose.x_m) && std::isfinite(pose.y_m) && std::isfinite(pose.yaw_rad);
 }
 
-// The geometry both grid wire types share, and the cells' value range.
+// The geometry both grid wire types share.
 template <typename GridMsgT>
 bool ValidGeometry(const GridMsgT& msg) {
   return msg.width_cells > 0 && msg.height_cells > 0 && msg.resolution_m > 0.0 &&
@@ -29,6 +29,7 @@ bool ValidGeometry(const GridMsgT& msg) {
          std::isfinite(msg.origin.y_m) && msg.origin.yaw_rad == 0.0;
 }
 
+// Every cell is -1 (unknown) or an occupancy percentage.
 bool ValidCellValues(const std::vector<int8_t>& cells) {
   // A branch-free min/max (vectorized): maps run to millions of cells.
   int8_t lowest = -1, highest = 100;

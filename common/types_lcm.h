@@ -53,10 +53,10 @@ occupancy_grid_t ToLcm(const OccupancyGrid& grid, int64_t utime, int64_t revisio
 // a rotated origin and cell values outside -1..100.
 std::optional<OccupancyGrid> FromLcm(const occupancy_grid_t& msg);
 
-// The same grid with its cells zlib-compressed (an office floor: 400 kB -> 10-30 kB).
+// The same grid with its cells zlib-compressed (an office floor: 400 kB -> 10-20 kB).
 compressed_occupancy_grid_t ToCompressedLcm(const OccupancyGrid& grid, int64_t utime,
                                             int64_t revision, const std::string& frame);
-// The most cells a compressed grid may claim (a 50 x 50 km floor at 5 cm), checked before
+// The most cells a compressed grid may claim (1.6 x 1.6 km at 5 cm cells), checked before
 // inflating: a few bytes of zlib could otherwise ask for gigabytes.
 inline constexpr int64_t kMaxCompressedGridCells = int64_t{1} << 30;
 // Rejects what the raw FromLcm rejects, an unknown encoding, more than
