@@ -10,6 +10,7 @@
 # MTU 1500 shows a Wi-Fi link, where a datagram bigger than one frame is IP-fragmented and
 # any lost fragment loses it. Exits 77 (skipped) without nft or unprivileged namespaces.
 set -euo pipefail
+export PATH=$PATH:/usr/sbin:/sbin  # nft and ip, for a user whose PATH lacks them
 src=$(cd "$1" && pwd)
 build=$(cd "$2" && pwd)
 loss_percent=${3:-1}
