@@ -8,10 +8,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
+#include <exception>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+
+#include "common/atomic_file.h"
 
 namespace aslam {
 namespace {
@@ -425,31 +427,22 @@ bool SlamJournalWriter::Rewrite(const SlamSnapshot& snapshot, std::string* why_n
   while (emitted < snapshot.keyframes.size()) emit_keyframe(std::nullopt);
   OnState(snapshot.state);
 
-  const std::string temp_path = path_ + ".rewrite";
-  const int temp_fd = ::open(temp_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (temp_fd < 0) {
-    *why_not = "cannot create " + temp_path + ": " + ErrnoText();
-    pending_.clear();
+  try {
+    WriteFileAtomically(path_, pending_);
+  } catch (const std::exception& e) {
+    *why_not = e.what();
+    pending_.clear();         // the old journal is untouched: appending goes on there
     pose_bytes_written_ = 0;  // try again after as many poses more
     return false;
   }
-  if (!WriteAll(temp_fd, pending_) || ::fdatasync(temp_fd) != 0 ||
-      ::rename(temp_path.c_str(), path_.c_str()) != 0) {
-    *why_not = "cannot write " + temp_path + ": " + ErrnoText();
-    ::close(temp_fd);
-    ::unlink(temp_path.c_str());
-    pending_.clear();  // the old journal is untouched: appending goes on there
-    pose_bytes_written_ = 0;
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd < 0) {  // the old file is gone: appending to it would lose everything after
+    Fail("cannot open it again after its rewrite: " + ErrnoText());
+    *why_not = *error_;
     return false;
   }
-  const std::string dir = std::filesystem::path(path_).parent_path().string();
-  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd >= 0) {
-    ::fsync(dir_fd);  // the rename itself survives a power cut
-    ::close(dir_fd);
-  }
   ::close(fd_);
-  fd_ = temp_fd;
+  fd_ = fd;
   bytes_written_ = static_cast<int64_t>(pending_.size());
   pose_bytes_written_ = 0;
   pending_.clear();

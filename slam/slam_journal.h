@@ -60,8 +60,8 @@ class SlamJournalWriter final : public SlamJournalSink {
   // 1 MiB): then Rewrite keeps it within about twice what the graph itself needs.
   bool WantsRewrite() const;
   // Replaces the journal with one holding `snapshot` alone (edges in the graph's order, each
-  // keyframe at its current pose): the same Slam when read back. Written beside it, synced
-  // and renamed over it, so a crash leaves the old journal or the new one, whole. On failure
+  // keyframe at its current pose): the same Slam when read back. Written with
+  // WriteFileAtomically, so a crash leaves the old journal or the new one, whole. On failure
   // (returned, with why) the old journal stays and appending goes on there.
   bool Rewrite(const SlamSnapshot& snapshot, std::string* why_not);
   int64_t rewrites() const { return rewrites_; }
