@@ -41,6 +41,7 @@ OccupancyMapper::OccupancyMapper(OccupancyMapperOptions options) : options_(std:
   Require(o.free_threshold > 0.0 && o.free_threshold < 0.5, "free_threshold", o.free_threshold);
   Require(o.occupied_threshold > 0.5 && o.occupied_threshold < 1.0, "occupied_threshold",
           o.occupied_threshold);
+  Require(o.submap_keyframes >= 1, "submap_keyframes", o.submap_keyframes);
 }
 
 void OccupancyMapper::Clear() {
@@ -133,52 +134,12 @@ std::optional<CellBox> OccupancyMapper::BeamEndCells(const Pose2d& base_in_map,
   return box;
 }
 
-std::optional<CellBox> OccupancyMapper::ComputeBeamEnds(const Pose2d& base_in_map,
-                                                        const LidarScan& scan) {
-  return BeamEndCells(base_in_map, scan, &beam_ends_, &sensor_col_, &sensor_row_);
-}
-
-std::optional<CellBox> OccupancyMapper::ScanFootprint(const Pose2d& base_in_map,
-                                                      const LidarScan& scan) {
-  return ComputeBeamEnds(base_in_map, scan);
-}
-
 std::optional<CellBox> OccupancyMapper::InsertScan(const Pose2d& base_in_map,
                                                    const LidarScan& scan) {
-  return Insert<false>(base_in_map, scan);
-}
-
-void OccupancyMapper::RerenderRegion(const std::vector<CellBox>& region,
-                                     const std::vector<PosedScan>& scans) {
-  if (region.empty()) return;
-  // One growth for everything below, so the mask stays aligned with the grid.
-  CellBox all = region.front();
-  for (const CellBox& box : region) all = all.Union(box);
-  for (const PosedScan& posed : scans) all = all.Union(posed.footprint);
-  GrowToCover(all.min_col, all.min_row, all.max_col, all.max_row);
-  region_mask_.assign(cells_.size(), 0);
-  for (const CellBox& box : region) {
-    for (int row = box.min_row; row <= box.max_row; ++row) {
-      const std::size_t first =
-          static_cast<std::size_t>(row - origin_row_) * width_cells_ + (box.min_col - origin_col_);
-      const std::size_t count = static_cast<std::size_t>(box.max_col - box.min_col + 1);
-      std::fill_n(region_mask_.begin() + first, count, 1);
-      for (std::size_t i = first; i < first + count; ++i) cells_[i].log_odds = kUnobserved;
-    }
-  }
-  for (const PosedScan& posed : scans) {
-    region_boxes_.clear();  // the region boxes this scan can reach
-    for (const CellBox& box : region) {
-      if (box.Intersects(posed.footprint)) region_boxes_.push_back(box);
-    }
-    Insert<true>(posed.base_in_map, *posed.scan);
-  }
-}
-
-template <bool kInRegionOnly>
-std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const LidarScan& scan) {
   // Pass 1: beam end cells (global indices) and their bounding box.
-  const std::optional<CellBox> footprint = ComputeBeamEnds(base_in_map, scan);
+  int sensor_col = 0, sensor_row = 0;
+  const std::optional<CellBox> footprint =
+      BeamEndCells(base_in_map, scan, &beam_ends_, &sensor_col, &sensor_row);
   if (!footprint) return std::nullopt;
 
   // One growth per scan; every cell touched below is then inside the grid.
@@ -194,13 +155,9 @@ std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const 
   const float lo_min = static_cast<float>(options_.log_odds_min);
   const float lo_max = static_cast<float>(options_.log_odds_max);
   Cell* const grid = cells_.data();
-  const uint8_t* const in_region = region_mask_.data();
   const int width = width_cells_;
 
   auto update = [&](std::ptrdiff_t index, float delta) {
-    if constexpr (kInRegionOnly) {
-      if (!in_region[index]) return;
-    }
     Cell& cell = grid[index];
     if (cell.stamp == stamp) return;
     cell.stamp = stamp;
@@ -218,20 +175,10 @@ std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const 
   // included for a no-return beam. Bresenham on cell indices, written as one
   // step along the major axis per cell plus a carry on the minor axis, so the
   // stepping has no data-dependent branch.
-  const int start_col = sensor_col_ - origin_col_;
-  const int start_row = sensor_row_ - origin_row_;
+  const int start_col = sensor_col - origin_col_;
+  const int start_row = sensor_row - origin_row_;
   const std::ptrdiff_t start_index = static_cast<std::ptrdiff_t>(start_row) * width + start_col;
   for (const BeamEnd& end : beam_ends_) {
-    if constexpr (kInRegionOnly) {
-      // A beam whose box meets no region box cannot touch the region: skip its walk.
-      const CellBox beam{
-          std::min(start_col, end.col) + origin_col_, std::min(start_row, end.row) + origin_row_,
-          std::max(start_col, end.col) + origin_col_, std::max(start_row, end.row) + origin_row_};
-      if (std::none_of(region_boxes_.begin(), region_boxes_.end(),
-                       [&](const CellBox& box) { return box.Intersects(beam); })) {
-        continue;
-      }
-    }
     const int dx = std::abs(end.col - start_col);
     const int dy = std::abs(end.row - start_row);
     const std::ptrdiff_t step_x = end.col > start_col ? 1 : -1;
@@ -256,29 +203,30 @@ std::optional<CellBox> OccupancyMapper::Insert(const Pose2d& base_in_map, const 
 }
 
 int OccupancyMapper::CountRevealedCells(const Pose2d& base_in_map, const LidarScan& scan) const {
-  std::vector<BeamEnd> ends;
-  int sensor_col = 0, sensor_row = 0;
-  if (!BeamEndCells(base_in_map, scan, &ends, &sensor_col, &sensor_row)) return 0;
-  const auto never_observed = [&](int col, int row) {
-    const int c = col - origin_col_, r = row - origin_row_;
-    return c < 0 || r < 0 || c >= width_cells_ || r >= height_cells_ ||
-           std::isnan(cells_[static_cast<std::size_t>(r) * width_cells_ + c].log_odds);
-  };
-  int revealed = 0;
-  for (const BeamEnd& end : ends) {
-    // Every cell from the sensor's to the end cell (Bresenham).
-    const int dx = std::abs(end.col - sensor_col), dy = std::abs(end.row - sensor_row);
-    const int step_col = end.col > sensor_col ? 1 : -1, step_row = end.row > sensor_row ? 1 : -1;
-    int col = sensor_col, row = sensor_row, err = dx - dy;
-    while (true) {
-      revealed += never_observed(col, row);
-      if (col == end.col && row == end.row) break;
-      const int twice = 2 * err;
-      if (twice > -dy) err -= dy, col += step_col;
-      if (twice < dx) err += dx, row += step_row;
-    }
-  }
-  return revealed;
+  return CountBeamCells(base_in_map, scan,
+                        [this](int col, int row) { return std::isnan(LogOddsAt(col, row)); });
+}
+
+float OccupancyMapper::LogOddsAt(int col, int row) const {
+  const int c = col - origin_col_, r = row - origin_row_;
+  if (c < 0 || r < 0 || c >= width_cells_ || r >= height_cells_) return kUnobserved;
+  return cells_[static_cast<std::size_t>(r) * width_cells_ + c].log_odds;
+}
+
+LogOddsRenderer::LogOddsRenderer(const OccupancyMapperOptions& options)
+    : free_threshold_(options.free_threshold),
+      occupied_threshold_(options.occupied_threshold),
+      free_logit_(std::log(free_threshold_ / (1.0 - free_threshold_))),
+      occupied_logit_(std::log(occupied_threshold_ / (1.0 - occupied_threshold_))) {}
+
+int8_t LogOddsRenderer::operator()(float log_odds) const {
+  constexpr double kMargin = 1e-6;
+  if (log_odds < free_logit_ - kMargin) return OccupancyGrid::kFree;
+  if (log_odds > occupied_logit_ + kMargin) return OccupancyGrid::kOccupied;
+  const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(log_odds)));
+  return p <= free_threshold_       ? OccupancyGrid::kFree
+         : p >= occupied_threshold_ ? OccupancyGrid::kOccupied
+                                    : static_cast<int8_t>(std::lround(100.0 * p));
 }
 
 OccupancyGrid OccupancyMapper::Render() const {
@@ -286,26 +234,10 @@ OccupancyGrid OccupancyMapper::Render() const {
   const double res = options_.resolution_m;
   OccupancyGrid grid(width_cells_, height_cells_, res, {origin_col_ * res, origin_row_ * res});
   std::vector<int8_t>& cells = grid.mutable_cells();
-  // Log-odds clearly past a threshold's logit render without exp(); near it, as below.
-  const double free_logit = std::log(options_.free_threshold / (1.0 - options_.free_threshold));
-  const double occupied_logit =
-      std::log(options_.occupied_threshold / (1.0 - options_.occupied_threshold));
-  constexpr double kMargin = 1e-6;
+  const LogOddsRenderer render(options_);
   for (std::size_t i = 0; i < cells_.size(); ++i) {
     const float value = cells_[i].log_odds;
-    if (std::isnan(value)) continue;  // stays kUnknown
-    if (value < free_logit - kMargin) {
-      cells[i] = OccupancyGrid::kFree;
-      continue;
-    }
-    if (value > occupied_logit + kMargin) {
-      cells[i] = OccupancyGrid::kOccupied;
-      continue;
-    }
-    const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(value)));
-    cells[i] = p <= options_.free_threshold       ? OccupancyGrid::kFree
-               : p >= options_.occupied_threshold ? OccupancyGrid::kOccupied
-                                                  : static_cast<int8_t>(std::lround(100.0 * p));
+    if (!std::isnan(value)) cells[i] = render(value);  // else stays kUnknown
   }
   return grid;
 }

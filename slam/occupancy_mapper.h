@@ -5,6 +5,8 @@
 // grows to cover whatever is inserted. Rendered in the ROS convention.
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -29,6 +31,19 @@ struct OccupancyMapperOptions {
   double free_threshold =
       0.45;  // one miss (p = 0.40) already reads free: a first scan shows free space
   double occupied_threshold = 0.65;
+  // SubmapMap: consecutive mapped keyframes per submap (its own clamped grid; see submap_map.h).
+  int submap_keyframes = 20;
+};
+
+// Log-odds to the ROS convention with the options' thresholds (see free_threshold).
+class LogOddsRenderer {
+ public:
+  explicit LogOddsRenderer(const OccupancyMapperOptions& options);
+  int8_t operator()(float log_odds) const;
+
+ private:
+  double free_threshold_, occupied_threshold_;
+  double free_logit_, occupied_logit_;  // clearly past one of these: no exp() needed
 };
 
 // Global cells [min, max] (both included), in floor(map / resolution) indices.
@@ -63,25 +78,28 @@ class OccupancyMapper {
   // beams are skipped. Aborts on a non-finite pose (a bug upstream).
   // Returns the cells the scan may have changed (none: no usable beam).
   std::optional<CellBox> InsertScan(const Pose2d& base_in_map, const LidarScan& scan);
-  // The cells InsertScan(base_in_map, scan) would change, without changing any.
-  std::optional<CellBox> ScanFootprint(const Pose2d& base_in_map, const LidarScan& scan);
-
-  // A scan to re-insert, with its footprint at that pose.
-  struct PosedScan {
-    Pose2d base_in_map;
-    const LidarScan* scan = nullptr;
-    CellBox footprint;
-  };
-  // Re-renders the cells of `region` only: forgets what they observed, then
-  // re-inserts `scans` in order, changing nothing outside the region. Given
-  // every scan of the map whose footprint meets the region, in the order of
-  // insertion, the region ends as a fresh insertion of all of them would leave
-  // it (log-odds are clamped in insertion order, so order matters).
-  void RerenderRegion(const std::vector<CellBox>& region, const std::vector<PosedScan>& scans);
-
   // How many never-observed cells inserting `scan` at `base_in_map` would observe (a
   // cell crossed by several beams counts once per beam). Changes nothing.
   int CountRevealedCells(const Pose2d& base_in_map, const LidarScan& scan) const;
+  // The same count with another idea of "never observed": is_unobserved(col, row) on
+  // global cell indices (floor(map / resolution)).
+  template <class IsUnobserved>
+  int CountBeamCells(const Pose2d& base_in_map, const LidarScan& scan,
+                     IsUnobserved is_unobserved) const;
+
+  // The grid's cells: global index of cell (0, 0) and size.
+  struct Extent {
+    int origin_col = 0;
+    int origin_row = 0;
+    int width = 0;
+    int height = 0;
+  };
+  Extent extent() const { return {origin_col_, origin_row_, width_cells_, height_cells_}; }
+  // Calls f(col, row, log_odds) for every observed cell, row by row (global indices).
+  template <class F>
+  void ForEachObserved(F f) const;
+  // The log-odds of a global cell; NaN when never observed or outside the grid.
+  float LogOddsAt(int col, int row) const;
 
   // -1 never observed, else round(100 * p_occupied). Empty grid when empty().
   OccupancyGrid Render() const;
@@ -104,11 +122,6 @@ class OccupancyMapper {
   std::optional<CellBox> BeamEndCells(const Pose2d& base_in_map, const LidarScan& scan,
                                       std::vector<BeamEnd>* ends, int* sensor_col,
                                       int* sensor_row) const;
-  // Pass 1 of an insertion: BeamEndCells into beam_ends_, sensor_col_ and sensor_row_.
-  std::optional<CellBox> ComputeBeamEnds(const Pose2d& base_in_map, const LidarScan& scan);
-  // The insertion; with kInRegionOnly, cells outside region_mask_ are left alone.
-  template <bool kInRegionOnly>
-  std::optional<CellBox> Insert(const Pose2d& base_in_map, const LidarScan& scan);
 
   OccupancyMapperOptions options_;
   int width_cells_ = 0;
@@ -124,11 +137,40 @@ class OccupancyMapper {
   std::vector<Cell> cells_;  // row-major; side by side, one cache line per visit
   uint32_t scan_stamp_ = 0;
   bool empty_ = true;
-  std::vector<BeamEnd> beam_ends_;     // scratch for InsertScan
-  std::vector<uint8_t> region_mask_;   // RerenderRegion's cells, one per grid cell
-  std::vector<CellBox> region_boxes_;  // ...and the region's boxes the current scan meets
-  int sensor_col_ = 0;                 // ComputeBeamEnds' sensor cell (global)
-  int sensor_row_ = 0;
+  std::vector<BeamEnd> beam_ends_;  // scratch for InsertScan
 };
+
+template <class IsUnobserved>
+int OccupancyMapper::CountBeamCells(const Pose2d& base_in_map, const LidarScan& scan,
+                                    IsUnobserved is_unobserved) const {
+  std::vector<BeamEnd> ends;
+  int sensor_col = 0, sensor_row = 0;
+  if (!BeamEndCells(base_in_map, scan, &ends, &sensor_col, &sensor_row)) return 0;
+  int revealed = 0;
+  for (const BeamEnd& end : ends) {
+    // Every cell from the sensor's to the end cell (Bresenham).
+    const int dx = std::abs(end.col - sensor_col), dy = std::abs(end.row - sensor_row);
+    const int step_col = end.col > sensor_col ? 1 : -1, step_row = end.row > sensor_row ? 1 : -1;
+    int col = sensor_col, row = sensor_row, err = dx - dy;
+    while (true) {
+      revealed += is_unobserved(col, row);
+      if (col == end.col && row == end.row) break;
+      const int twice = 2 * err;
+      if (twice > -dy) err -= dy, col += step_col;
+      if (twice < dx) err += dx, row += step_row;
+    }
+  }
+  return revealed;
+}
+
+template <class F>
+void OccupancyMapper::ForEachObserved(F f) const {
+  for (int row = 0; row < height_cells_; ++row) {
+    const Cell* cells = cells_.data() + static_cast<std::size_t>(row) * width_cells_;
+    for (int col = 0; col < width_cells_; ++col) {
+      if (!std::isnan(cells[col].log_odds)) f(col + origin_col_, row + origin_row_, cells[col].log_odds);
+    }
+  }
+}
 
 }  // namespace aslam

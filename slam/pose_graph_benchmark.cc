@@ -13,6 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "slam/occupancy_mapper.h"
+#include "slam/submap_map.h"
 #include "slam/pose_graph_optimizer.h"
 
 namespace aslam {
@@ -229,7 +230,7 @@ void BM_MapperCountRevealedCells(benchmark::State& state) {
 }
 BENCHMARK(BM_MapperCountRevealedCells)->Unit(benchmark::kMicrosecond);
 
-// After a loop closure the front end clears and re-inserts every keyframe.
+// Every keyframe re-inserted into one grid: what a large closure cost before submaps.
 void BM_MapperRerender1000Keyframes(benchmark::State& state) {
   const Keyframes& k = OfficeKeyframes();
   OccupancyMapper mapper({});
@@ -240,6 +241,26 @@ void BM_MapperRerender1000Keyframes(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MapperRerender1000Keyframes)->Unit(benchmark::kMillisecond);
+
+// What a closure costs per submap it moved: one submap of 20 keyframes rebuilt.
+void BM_SubmapRerender(benchmark::State& state) {
+  const Keyframes& k = OfficeKeyframes();
+  SubmapMap map({});
+  std::vector<SubmapMap::PosedScan> first_submap;
+  for (std::size_t i = 0; i < k.poses.size(); ++i) {
+    if (map.InsertScan(k.poses[i], k.scans[i]) == 0) first_submap.push_back({k.poses[i], &k.scans[i]});
+  }
+  for (auto _ : state) map.RerenderSubmap(0, first_submap);
+}
+BENCHMARK(BM_SubmapRerender)->Unit(benchmark::kMillisecond);
+
+void BM_SubmapMapRender(benchmark::State& state) {
+  const Keyframes& k = OfficeKeyframes();
+  SubmapMap map({});
+  for (std::size_t i = 0; i < k.poses.size(); ++i) map.InsertScan(k.poses[i], k.scans[i]);
+  for (auto _ : state) benchmark::DoNotOptimize(map.Render());
+}
+BENCHMARK(BM_SubmapMapRender)->Unit(benchmark::kMillisecond);
 
 void BM_MapperRender(benchmark::State& state) {
   const Keyframes& k = OfficeKeyframes();

@@ -137,7 +137,7 @@ Slam::Slam(SlamOptions options)
     : options_(CheckedOrAbort(options)),
       matcher_(options_.scan_matcher),
       optimizer_(options_.optimizer),
-      mapper_(options_.mapper),
+      map_(options_.mapper),
       scan_clock_(std::llround(options_.input.max_time_gap_s * 1e6),
                   options_.input.resync_messages) {}
 
@@ -174,10 +174,9 @@ void Slam::Restore(SlamSnapshot snapshot) {
         ScanToPoints(record.scan, options_.front_end.point_spacing_m));
     const double reach_m = BeamReachM(record.scan, options_.mapper.no_return_clear_m);
     keyframes_.push_back(Keyframe{record.utime, record.odom_pose, std::move(points),
-                                  std::move(record.scan), pose, std::nullopt, reach_m,
-                                  record.in_map});
+                                  std::move(record.scan), pose, -1, reach_m, record.in_map});
     Keyframe& keyframe = keyframes_.back();
-    if (keyframe.in_map) keyframe.footprint = mapper_.InsertScan(pose, keyframe.scan);
+    if (keyframe.in_map) keyframe.submap = map_.InsertScan(pose, keyframe.scan);
   }
   const SlamState& state = snapshot.state;
   counters_ = state.counters;
@@ -402,13 +401,13 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
     sequential_edge = edge;
   }
   graph_.nodes.push_back(PoseGraphNode{id, scan.utime, pose});
-  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose, std::nullopt,
+  keyframes_.push_back(Keyframe{scan.utime, odom_pose, std::move(points), scan, pose, -1,
                                 BeamReachM(scan, options_.mapper.no_return_clear_m)});
   Keyframe& keyframe = keyframes_.back();
   if (MapExplains(keyframe, pose)) {
     ++counters_.keyframes_not_mapped;
   } else {
-    keyframe.footprint = mapper_.InsertScan(pose, scan);
+    keyframe.submap = map_.InsertScan(pose, scan);
     keyframe.in_map = true;
     last_mapped_odom_pose_ = odom_pose;
     ++map_revision_;
@@ -458,7 +457,7 @@ bool Slam::MapExplains(const Keyframe& keyframe, const Pose2d& pose) const {
     return false;
   }
   const double cell_area_m2 = options_.mapper.resolution_m * options_.mapper.resolution_m;
-  return mapper_.CountRevealedCells(pose, keyframe.scan) * cell_area_m2 <= t.max_revealed_area_m2;
+  return map_.CountRevealedCells(pose, keyframe.scan) * cell_area_m2 <= t.max_revealed_area_m2;
 }
 
 void Slam::TryLoopClosure(int node_id, ScanUpdate* update) {
@@ -581,50 +580,30 @@ bool Slam::OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update) {
 
 OccupancyGrid Slam::RenderMap() {
   if (map_stale_) RerenderDriftedKeyframes();
-  return mapper_.Render();
+  return map_.Render();
 }
 
 void Slam::RerenderDriftedKeyframes() {
   map_stale_ = false;
   const double tolerance_m = options_.loop_closure.map_rerender_tolerance_m;
-  std::vector<bool> drifted(keyframes_.size(), false);
-  std::vector<std::optional<CellBox>> new_footprints(keyframes_.size());
-  std::vector<CellBox> region;  // every drifted keyframe's cells, at the old and the new pose
+  // Each submap's keyframes, in insertion order; a submap with one drifted keyframe is rebuilt.
+  std::vector<std::vector<std::size_t>> members(map_.num_submaps());
+  std::vector<bool> drifted(members.size(), false);
   for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-    if (DriftM(i) <= tolerance_m) continue;
-    drifted[i] = true;
-    new_footprints[i] = mapper_.ScanFootprint(graph_.nodes[i].pose, keyframes_[i].scan);
-    for (const auto& box : {keyframes_[i].footprint, new_footprints[i]}) {
-      if (box) region.push_back(*box);
+    const int submap = keyframes_[i].submap;
+    if (submap < 0) continue;
+    members[submap].push_back(i);
+    if (!drifted[submap] && DriftM(i) > tolerance_m) drifted[submap] = true;
+  }
+  std::vector<SubmapMap::PosedScan> scans;
+  for (std::size_t submap = 0; submap < members.size(); ++submap) {
+    if (!drifted[submap]) continue;
+    scans.clear();
+    for (const std::size_t i : members[submap]) {
+      scans.push_back({graph_.nodes[i].pose, &keyframes_[i].scan});
+      keyframes_[i].mapped_pose = graph_.nodes[i].pose;
     }
-  }
-  if (region.empty()) return;
-  // Many boxes (a large correction): their bounding box instead, a larger region that is
-  // just as exact and keeps the intersection tests below linear.
-  constexpr std::size_t kMaxRegionBoxes = 64;
-  if (region.size() > kMaxRegionBoxes) {
-    CellBox all = region.front();
-    for (const CellBox& box : region) all = all.Union(box);
-    region = {all};
-  }
-  // Every keyframe that covers part of the region, in insertion order, at the pose the map
-  // keeps for it: a fresh render of all keyframes would leave the region just so.
-  std::vector<OccupancyMapper::PosedScan> scans;
-  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-    const Pose2d& pose = drifted[i] ? graph_.nodes[i].pose : keyframes_[i].mapped_pose;
-    const std::optional<CellBox>& footprint =
-        drifted[i] ? new_footprints[i] : keyframes_[i].footprint;
-    if (!footprint) continue;
-    if (std::any_of(region.begin(), region.end(),
-                    [&](const CellBox& box) { return box.Intersects(*footprint); })) {
-      scans.push_back({pose, &keyframes_[i].scan, *footprint});
-    }
-  }
-  mapper_.RerenderRegion(region, scans);
-  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
-    if (!drifted[i]) continue;
-    keyframes_[i].mapped_pose = graph_.nodes[i].pose;
-    keyframes_[i].footprint = new_footprints[i];
+    map_.RerenderSubmap(static_cast<int>(submap), scans);
   }
 }
 

@@ -23,6 +23,7 @@
 #include "common/sensor_types.h"
 #include "common/stream_clock.h"
 #include "slam/occupancy_mapper.h"
+#include "slam/submap_map.h"
 #include "slam/pose_graph_optimizer.h"
 #include "slam/scan_matcher.h"
 #include "slam/slam_options.h"
@@ -164,8 +165,8 @@ class Slam {
     Pose2d odom_pose;  // odometry at the keyframe's scan
     std::shared_ptr<const PointCloud2d> points;
     LidarScan scan;                    // kept to re-render the map after optimization
-    Pose2d mapped_pose;                // where the map has this scan (the pose when last inserted)
-    std::optional<CellBox> footprint;  // the cells it changed there
+    Pose2d mapped_pose;  // where the map has this scan (the pose when last inserted)
+    int submap = -1;     // its submap in map_ (-1: not in the map)
     double beam_reach_m = 0.0;
     bool in_map = false;  // false: explained by the map when added (map_thinning)
   };
@@ -180,8 +181,8 @@ class Slam {
   // True when map_thinning keeps `keyframe`, at `pose`, out of the map.
   bool MapExplains(const Keyframe& keyframe, const Pose2d& pose) const;
   void TryLoopClosure(int node_id, ScanUpdate* update);
-  // Re-inserts, at their graph poses, the keyframes whose beams drifted beyond the
-  // tolerance: only the cells they cover at the old and the new pose are re-rendered.
+  // Rebuilds, at their graph poses, the submaps holding a keyframe whose beams drifted
+  // beyond the tolerance; the other submaps stay as they are.
   void RerenderDriftedKeyframes();
   // How far keyframe `keyframe`'s beams lie from where the mapper has them.
   double DriftM(std::size_t keyframe) const;
@@ -196,7 +197,7 @@ class Slam {
   SlamOptions options_;
   ScanMatcher matcher_;
   PoseGraphOptimizer optimizer_;
-  OccupancyMapper mapper_;
+  SubmapMap map_;
 
   PoseGraph graph_;
   std::vector<Keyframe> keyframes_;  // keyframes_[i] is graph_.nodes[i]

@@ -78,6 +78,7 @@ void LoadMapper(const ConfigReader& c, OccupancyMapperOptions* o) {
   c.ReadInRange("growth_margin_m", &o->growth_margin_m, 0.0, 100.0);
   c.ReadInRange("free_threshold", &o->free_threshold, 0.001, 0.499);
   c.ReadInRange("occupied_threshold", &o->occupied_threshold, 0.501, 0.999);
+  c.ReadInRange("submap_keyframes", &o->submap_keyframes, 1, 100000);
 }
 
 void LoadInput(const ConfigReader& c, InputOptions* o) {

@@ -74,6 +74,7 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.mapper.growth_margin_m, y.mapper.growth_margin_m);
   EXPECT_EQ(x.mapper.free_threshold, y.mapper.free_threshold);
   EXPECT_EQ(x.mapper.occupied_threshold, y.mapper.occupied_threshold);
+  EXPECT_EQ(x.mapper.submap_keyframes, y.mapper.submap_keyframes);
 
   EXPECT_EQ(x.input.min_valid_points, y.input.min_valid_points);
   EXPECT_EQ(x.input.max_linear_speed_mps, y.input.max_linear_speed_mps);
@@ -123,6 +124,7 @@ struct OptimizerFields {
 };
 struct MapperFields {
   double d[9];
+  int i;
 };
 struct InputFields {
   int i0;
@@ -216,6 +218,7 @@ slam:
     growth_margin_m: 3.0
     free_threshold: 0.2
     occupied_threshold: 0.7
+    submap_keyframes: 7
   input:
     min_valid_points: 30
     max_linear_speed_mps: 2.0
@@ -275,6 +278,7 @@ slam:
   EXPECT_EQ(o.mapper.growth_margin_m, 3.0);
   EXPECT_EQ(o.mapper.free_threshold, 0.2);
   EXPECT_EQ(o.mapper.occupied_threshold, 0.7);
+  EXPECT_EQ(o.mapper.submap_keyframes, 7);
   EXPECT_EQ(o.input.min_valid_points, 30);
   EXPECT_EQ(o.input.max_linear_speed_mps, 2.0);
   EXPECT_EQ(o.input.max_angular_speed_radps, 6.0);

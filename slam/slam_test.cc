@@ -433,8 +433,8 @@ TEST(Slam, MapIsReRenderedOnlyWhenClosuresMoveBeamsBeyondTheTolerance) {
               lazy_optimized, lazy_invalidated, drift_m);
 }
 
-// However many partial re-renders a lap needed, the map ends as a fresh insertion
-// of every mapped keyframe at its final pose (tolerance 0: every move counts).
+// However many submaps a lap rebuilt, the map ends as a fresh insertion of every mapped
+// keyframe at its final pose (tolerance 0: every move counts).
 TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
   SlamOptions options;
   options.loop_closure.map_rerender_tolerance_m = 0.0;
@@ -463,7 +463,7 @@ TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
   ASSERT_GE(re_renders, 1);
   const OccupancyGrid actual = slam.RenderMap();
   ASSERT_EQ(keyframe_scans.size(), slam.graph().nodes.size());
-  OccupancyMapper fresh(options.mapper);
+  SubmapMap fresh(options.mapper);
   for (std::size_t i = 0; i < keyframe_scans.size(); ++i) {
     if (mapped[i]) fresh.InsertScan(slam.graph().nodes[i].pose, keyframe_scans[i]);
   }
@@ -475,7 +475,8 @@ TEST(Slam, PartialReRendersLeaveTheMapAFreshRenderWouldGive) {
     for (int col = 0; col < expected.width_cells(); ++col) {
       const int8_t want = expected.at({col, row});
       known += want != OccupancyGrid::kUnknown;
-      differing += actual.ValueOr(actual.WorldToCell(expected.CellCenter({col, row})), -2) != want;
+      differing += actual.ValueOr(actual.WorldToCell(expected.CellCenter({col, row})),
+                                  OccupancyGrid::kUnknown) != want;
     }
   }
   EXPECT_GT(known, 10000);
