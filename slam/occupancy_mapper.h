@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <vector>
 
@@ -168,7 +168,8 @@ void OccupancyMapper::ForEachObserved(F f) const {
   for (int row = 0; row < height_cells_; ++row) {
     const Cell* cells = cells_.data() + static_cast<std::size_t>(row) * width_cells_;
     for (int col = 0; col < width_cells_; ++col) {
-      if (!std::isnan(cells[col].log_odds)) f(col + origin_col_, row + origin_row_, cells[col].log_odds);
+      if (!std::isnan(cells[col].log_odds))
+        f(col + origin_col_, row + origin_row_, cells[col].log_odds);
     }
   }
 }

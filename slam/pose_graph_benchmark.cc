@@ -13,8 +13,8 @@
 #include <benchmark/benchmark.h>
 
 #include "slam/occupancy_mapper.h"
-#include "slam/submap_map.h"
 #include "slam/pose_graph_optimizer.h"
+#include "slam/submap_map.h"
 
 namespace aslam {
 namespace {
@@ -248,7 +248,8 @@ void BM_SubmapRerender(benchmark::State& state) {
   SubmapMap map({});
   std::vector<SubmapMap::PosedScan> first_submap;
   for (std::size_t i = 0; i < k.poses.size(); ++i) {
-    if (map.InsertScan(k.poses[i], k.scans[i]) == 0) first_submap.push_back({k.poses[i], &k.scans[i]});
+    if (map.InsertScan(k.poses[i], k.scans[i]) == 0)
+      first_submap.push_back({k.poses[i], &k.scans[i]});
   }
   for (auto _ : state) map.RerenderSubmap(0, first_submap);
 }

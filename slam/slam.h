@@ -23,10 +23,10 @@
 #include "common/sensor_types.h"
 #include "common/stream_clock.h"
 #include "slam/occupancy_mapper.h"
-#include "slam/submap_map.h"
 #include "slam/pose_graph_optimizer.h"
 #include "slam/scan_matcher.h"
 #include "slam/slam_options.h"
+#include "slam/submap_map.h"
 
 namespace aslam {
 
@@ -164,7 +164,7 @@ class Slam {
     int64_t utime = 0;
     Pose2d odom_pose;  // odometry at the keyframe's scan
     std::shared_ptr<const PointCloud2d> points;
-    LidarScan scan;                    // kept to re-render the map after optimization
+    LidarScan scan;      // kept to re-render the map after optimization
     Pose2d mapped_pose;  // where the map has this scan (the pose when last inserted)
     int submap = -1;     // its submap in map_ (-1: not in the map)
     double beam_reach_m = 0.0;

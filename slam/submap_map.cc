@@ -70,9 +70,9 @@ void SubmapMap::GrowFusionToCover(const OccupancyMapper::Extent& e) {
   std::vector<uint16_t> observers(cells, 0);
   for (int row = 0; row < f.height; ++row) {
     const std::size_t from = static_cast<std::size_t>(row) * f.width;
-    const std::size_t to = static_cast<std::size_t>(row + f.origin_row - grown.origin_row) *
-                               grown.width +
-                           (f.origin_col - grown.origin_col);
+    const std::size_t to =
+        static_cast<std::size_t>(row + f.origin_row - grown.origin_row) * grown.width +
+        (f.origin_col - grown.origin_col);
     std::copy_n(sum_milli_.begin() + from, f.width, sum.begin() + to);
     std::copy_n(observers_.begin() + from, f.width, observers.begin() + to);
   }

@@ -119,7 +119,8 @@ TEST(SubmapMapTest, RerenderingUnmovedSubmapsKeepsTheMap) {
     scans.push_back(RandomScan(rng, 181));
     poses.push_back({2.0 * unit(rng), 2.0 * unit(rng), 6.0 * unit(rng)});
   }
-  for (int s = 0; s < 7; ++s) members[map.InsertScan(poses[s], scans[s])].push_back({poses[s], &scans[s]});
+  for (int s = 0; s < 7; ++s)
+    members[map.InsertScan(poses[s], scans[s])].push_back({poses[s], &scans[s]});
   const OccupancyGrid before = map.Render();
   for (int trial = 0; trial < 12; ++trial) {
     const int submap = trial % map.num_submaps();
