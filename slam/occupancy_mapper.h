@@ -52,15 +52,6 @@ struct CellBox {
   int min_row = 0;
   int max_col = -1;
   int max_row = -1;
-  // The smallest box holding both.
-  CellBox Union(const CellBox& other) const {
-    return {std::min(min_col, other.min_col), std::min(min_row, other.min_row),
-            std::max(max_col, other.max_col), std::max(max_row, other.max_row)};
-  }
-  bool Intersects(const CellBox& other) const {
-    return min_col <= other.max_col && other.min_col <= max_col && min_row <= other.max_row &&
-           other.min_row <= max_row;
-  }
 };
 
 class OccupancyMapper {
