@@ -14,6 +14,19 @@ constexpr double kMilli = 1000.0;
 
 int32_t ToMilli(float log_odds) { return static_cast<int32_t>(std::lround(log_odds * kMilli)); }
 
+// The smallest extent holding both; an empty one (width 0) holds nothing.
+OccupancyMapper::Extent Covering(const OccupancyMapper::Extent& a,
+                                 const OccupancyMapper::Extent& b) {
+  if (a.width == 0) return b;
+  if (b.width == 0) return a;
+  OccupancyMapper::Extent both;
+  both.origin_col = std::min(a.origin_col, b.origin_col);
+  both.origin_row = std::min(a.origin_row, b.origin_row);
+  both.width = std::max(a.origin_col + a.width, b.origin_col + b.width) - both.origin_col;
+  both.height = std::max(a.origin_row + a.height, b.origin_row + b.height) - both.origin_row;
+  return both;
+}
+
 }  // namespace
 
 SubmapMap::SubmapMap(OccupancyMapperOptions options) : options_(std::move(options)) {
@@ -58,13 +71,7 @@ void SubmapMap::GrowFusionToCover(const OccupancyMapper::Extent& e) {
       e.origin_row + e.height <= f.origin_row + f.height) {
     return;
   }
-  OccupancyMapper::Extent grown = e;
-  if (f.width > 0) {
-    grown.origin_col = std::min(f.origin_col, e.origin_col);
-    grown.origin_row = std::min(f.origin_row, e.origin_row);
-    grown.width = std::max(f.origin_col + f.width, e.origin_col + e.width) - grown.origin_col;
-    grown.height = std::max(f.origin_row + f.height, e.origin_row + e.height) - grown.origin_row;
-  }
+  const OccupancyMapper::Extent grown = Covering(f, e);
   const std::size_t cells = static_cast<std::size_t>(grown.width) * grown.height;
   std::vector<int32_t> sum(cells, 0);
   std::vector<uint16_t> observers(cells, 0);
@@ -112,15 +119,7 @@ OccupancyGrid SubmapMap::Render() const {
   if (empty()) return OccupancyGrid();
   // The sum's extent and the open submap's, together.
   const OccupancyMapper::Extent open = submaps_.back().extent();
-  OccupancyMapper::Extent all = fusion_.width > 0 ? fusion_ : open;
-  if (open.width > 0) {
-    const int max_col = std::max(all.origin_col + all.width, open.origin_col + open.width);
-    const int max_row = std::max(all.origin_row + all.height, open.origin_row + open.height);
-    all.origin_col = std::min(all.origin_col, open.origin_col);
-    all.origin_row = std::min(all.origin_row, open.origin_row);
-    all.width = max_col - all.origin_col;
-    all.height = max_row - all.origin_row;
-  }
+  const OccupancyMapper::Extent all = Covering(fusion_, open);
   const double res = options_.resolution_m;
   OccupancyGrid grid(all.width, all.height, res, {all.origin_col * res, all.origin_row * res});
   std::vector<int32_t> sum(static_cast<std::size_t>(all.width) * all.height, 0);
