@@ -18,7 +18,13 @@ FrontierNode::FrontierNode(lcm::LCM& lcm, FrontierOptions options)
 
 bool FrontierNode::OnMap(MapMessage msg) {
   // "New" = different: a restarted SLAM counts its revisions from the start again.
-  if (extracted_revision_ && *extracted_revision_ == msg.revision) return true;
+  if (published_ && published_->map_revision == msg.revision) {
+    // SLAM's re-announcement of an unchanged map: re-announce the list that answers it, so a
+    // restarted utility gets FRONTIERS while the robot stands still (no new revision comes).
+    published_->utime = msg.utime;
+    Publish();
+    return true;
+  }
   map_ = std::move(msg.grid);
   map_utime_ = msg.utime;
   map_revision_ = msg.revision;
@@ -37,12 +43,15 @@ bool FrontierNode::OnPose(const pose_t& msg) {
 
 void FrontierNode::ExtractAndPublish() {
   map_pending_ = false;
-  extracted_revision_ = map_revision_;
-  FrontierList list;
-  list.utime = map_utime_;
-  list.map_revision = map_revision_;
-  list.frontiers = extractor_.Extract(*map_, {pose_->pose.x_m, pose_->pose.y_m});
-  const frontier_list_t msg = ToLcm(list);
+  published_ = FrontierList{};
+  published_->utime = map_utime_;
+  published_->map_revision = map_revision_;
+  published_->frontiers = extractor_.Extract(*map_, {pose_->pose.x_m, pose_->pose.y_m});
+  Publish();
+}
+
+void FrontierNode::Publish() {
+  const frontier_list_t msg = ToLcm(*published_);
   lcm_.publish(channels::kFrontiers, &msg);
   ++lists_published_;
 }

@@ -4,8 +4,10 @@
 // "map"); for each new map revision, once a pose is known, extracts the
 // frontiers seen from the latest pose and publishes FRONTIERS (utime = the
 // map's utime). A map that arrives before any pose is extracted when the
-// first pose comes. The same node runs in the aslam-frontier process and
-// in-process on memq:// (docs/architecture.md §4).
+// first pose comes. SLAM's periodic re-announcement of an unchanged map is
+// answered with the same list again, restamped, not a new extraction. The
+// same node runs in the aslam-frontier process and in-process on memq://
+// (docs/architecture.md §4).
 
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
@@ -34,6 +36,7 @@ class FrontierNode {
   bool OnMap(MapMessage msg);
   bool OnPose(const pose_t& msg);
   void ExtractAndPublish();
+  void Publish();  // published_ on FRONTIERS
 
   lcm::LCM& lcm_;
   FrontierExtractor extractor_;
@@ -44,7 +47,7 @@ class FrontierNode {
   int64_t map_utime_ = 0;
   int64_t map_revision_ = 0;
   bool map_pending_ = false;
-  std::optional<int64_t> extracted_revision_;
+  std::optional<FrontierList> published_;  // the latest list, for re-announcing
   int64_t lists_published_ = 0;
 };
 

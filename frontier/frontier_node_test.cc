@@ -63,7 +63,7 @@ class FrontierNodeTest : public ::testing::Test {
 
 const Point2d kRoomCentre{1.5, 1.5};
 
-TEST_F(FrontierNodeTest, AMapAndAPoseGiveOneFrontierListPerMapRevision) {
+TEST_F(FrontierNodeTest, AMapAndAPoseGiveOneExtractionPerMapRevision) {
   // A map before any pose waits for the pose.
   PublishMap(Room(false), 5'000'000, 7);
   EXPECT_TRUE(lists_.empty());
@@ -85,24 +85,32 @@ TEST_F(FrontierNodeTest, AMapAndAPoseGiveOneFrontierListPerMapRevision) {
     EXPECT_FLOAT_EQ(door.point_x_m[i], static_cast<float>(49.5 * kRes));
   }
 
-  // More poses and the same revision again: nothing new.
+  // More poses: nothing new.
   PublishPose(5'200'000, kRoomCentre);
-  PublishMap(Room(false), 6'000'000, 7);
   EXPECT_EQ(lists_.size(), 1u);
+
+  // SLAM re-announcing revision 7 (a grid the extractor would answer differently, to tell a
+  // re-announced list from a new extraction): the same list, restamped.
+  PublishMap(Room(true), 6'000'000, 7);
+  ASSERT_EQ(lists_.size(), 2u);
+  EXPECT_EQ(lists_[1].utime, 6'000'000);
+  EXPECT_EQ(lists_[1].map_revision, 7);
+  ASSERT_EQ(lists_[1].num_frontiers, 1);
+  EXPECT_EQ(lists_[1].frontiers[0].size_cells, 11);
 
   // A new revision with a second doorway: the first keeps its id.
   PublishMap(Room(true), 7'000'000, 8);
-  ASSERT_EQ(lists_.size(), 2u);
-  EXPECT_EQ(lists_[1].utime, 7'000'000);
-  EXPECT_EQ(lists_[1].map_revision, 8);
-  ASSERT_EQ(lists_[1].num_frontiers, 2);
-  EXPECT_EQ(lists_[1].frontiers[0].id, 0);
-  EXPECT_DOUBLE_EQ(lists_[1].frontiers[0].centroid_x_m, 49.5 * kRes);
-  EXPECT_EQ(lists_[1].frontiers[1].id, 1);
-  EXPECT_EQ(lists_[1].frontiers[1].size_cells, 12);
+  ASSERT_EQ(lists_.size(), 3u);
+  EXPECT_EQ(lists_[2].utime, 7'000'000);
+  EXPECT_EQ(lists_[2].map_revision, 8);
+  ASSERT_EQ(lists_[2].num_frontiers, 2);
+  EXPECT_EQ(lists_[2].frontiers[0].id, 0);
+  EXPECT_DOUBLE_EQ(lists_[2].frontiers[0].centroid_x_m, 49.5 * kRes);
+  EXPECT_EQ(lists_[2].frontiers[1].id, 1);
+  EXPECT_EQ(lists_[2].frontiers[1].size_cells, 12);
 
   // What the utility reads back is what the extractor found.
-  const auto decoded = FromLcm(lists_[1]);
+  const auto decoded = FromLcm(lists_[2]);
   ASSERT_TRUE(decoded.has_value());
   EXPECT_EQ(decoded->map_revision, 8);
   ASSERT_EQ(decoded->frontiers.size(), node_.extractor().frontiers().size());
@@ -111,7 +119,7 @@ TEST_F(FrontierNodeTest, AMapAndAPoseGiveOneFrontierListPerMapRevision) {
     EXPECT_DOUBLE_EQ(decoded->frontiers[i].target_m.x_m,
                      node_.extractor().frontiers()[i].target_m.x_m);
   }
-  EXPECT_EQ(node_.lists_published(), 2);
+  EXPECT_EQ(node_.lists_published(), 3);
   EXPECT_EQ(node_.subscriptions().total_dropped(), 0);
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The fault matrix (issue 16): process-mode explorations of worlds/test, 300 simulated s,
 # one undisturbed and one per fault: SIGKILL of slam, frontier, utility or nav at a random
-# time, and SIGSTOP of slam for 5 s then SIGCONT. Each run completes (exit 0), reaches
+# time, SIGSTOP of slam for 5 s then SIGCONT, and a utility hung (SIGSTOP) for 60 s, then
+# SIGKILLed. Each run completes (exit 0), reaches
 # coverage >= 0.9 x the undisturbed run's, records the restart, and keyframe ids run on
 # across it (graph.g2o: ids 0..N-1, no jump between consecutive keyframes).
 #   fault_matrix_process_test.sh SOURCE_DIR BUILD_DIR [RATE [WORLD [DURATION_S]]]
@@ -50,6 +51,12 @@ run() {
         kill -STOP "$pid"
         sleep "$(awk -v r="$rate" 'BEGIN { print 5.0 / r }')"  # 5 simulated s
         kill -CONT "$pid"
+      elif [[ "$fault" == hang ]]; then
+        # Hung for 60 simulated s, then killed: the robot has finished its goal and stands, so
+        # no new map revision comes to prompt the restarted process.
+        kill -STOP "$pid"
+        sleep "$(awk -v r="$rate" 'BEGIN { print 60.0 / r }')"
+        kill -KILL "$pid"
       else
         kill -KILL "$pid"
       fi
@@ -90,10 +97,11 @@ run kill_frontier kill frontier
 run kill_utility kill utility
 run kill_nav kill nav
 run stop_slam stop slam
+run hang_utility hang utility
 
 reference=$(top undisturbed coverage)
 echo "--- the matrix (coverage of the undisturbed run: $reference)"
-runs="undisturbed kill_slam kill_frontier kill_utility kill_nav stop_slam"
+runs="undisturbed kill_slam kill_frontier kill_utility kill_nav stop_slam hang_utility"
 [[ -d "$out/undisturbed_short" ]] && runs="undisturbed_short $runs"
 printf '%-17s %-5s %-9s %-8s %-7s %-10s %-9s %-10s %-12s %s\n' \
   run exit coverage ratio sim_s keyframes ate_m goals_r/f restarts end
@@ -111,13 +119,13 @@ for name in $runs; do
     "$(top "$name" goals_reached)/$(top "$name" goals_failed)" "${restarts:-none}" \
     "$(top "$name" end_reason)"
 done
-for name in kill_slam kill_frontier kill_utility kill_nav stop_slam; do
+for name in kill_slam kill_frontier kill_utility kill_nav stop_slam hang_utility; do
   awk -v c="$(top "$name" coverage)" -v r="$reference" 'BEGIN { exit !(c < 0.9 * r) }' &&
     diagnose "$name"
 done
 
 check "the undisturbed run covers at least 0.8" awk -v c="$reference" 'BEGIN { exit !(c >= 0.8) }'
-for name in undisturbed kill_slam kill_frontier kill_utility kill_nav stop_slam; do
+for name in undisturbed kill_slam kill_frontier kill_utility kill_nav stop_slam hang_utility; do
   check "$name: exits 0" test "$(cat "$out/$name.rc")" -eq 0
   check "$name: coverage >= 0.9 x the undisturbed run's" \
     awk -v c="$(top "$name" coverage)" -v r="$reference" 'BEGIN { exit !(c >= 0.9 * r) }'
@@ -134,8 +142,13 @@ resumed_keyframes=$(sed -n 's/^aslam-slam: .*slam.journal: \([0-9]*\) keyframes.
 echo "kill_slam: resumed with ${resumed_keyframes:-?} keyframes, ended with $(top kill_slam keyframes)"
 check "kill_slam: the graph went on from the resumed keyframes" \
   test "$(top kill_slam keyframes)" -gt "${resumed_keyframes:-1000000}"
-check "kill_utility: the restarted utility resumed its counts" \
-  grep -q "aslam-utility: resuming from" "$out/kill_utility/utility.log"
+for name in kill_utility hang_utility; do
+  check "$name: the restarted utility resumed its counts" \
+    grep -q "aslam-utility: resuming from" "$out/$name/utility.log"
+done
+check "hang_utility: the restarted utility decided again" \
+  test "$(top hang_utility decisions)" -gt "$(sed -n 's/^aslam-utility: resuming from .*: \([0-9]*\) decisions.*/\1/p' \
+    "$out/hang_utility/utility.log" | head -1)"
 check "stop_slam: no process restarted" test "$(key stop_slam slam restarts)" = 0
 
 leftovers=$(ps -eo pid=,args= | grep -F -- "$host_port" | grep -v grep)
