@@ -53,6 +53,12 @@ CellIndex ShortestPathTree::CellOf(int32_t padded_index) const {
   return {padded_index % padded_width_ - 1, padded_index / padded_width_ - 1};
 }
 
+bool ShortestPathTree::SameGrid(const Costmap& costmap) const {
+  return width_cells_ == costmap.width_cells() && height_cells_ == costmap.height_cells() &&
+         resolution_m_ == costmap.resolution_m() && origin_m_.x_m == costmap.origin_m().x_m &&
+         origin_m_.y_m == costmap.origin_m().y_m && !cost_.empty();
+}
+
 bool ShortestPathTree::Reachable(CellIndex cell) const {
   const int32_t p = PaddedIndex(cell);
   return p >= 0 && (settled_[p] & kSettledBit) != 0;
@@ -103,10 +109,15 @@ void GlobalPlanner::Search(const Costmap& costmap, CellIndex start,
   SearchImpl(costmap, start, targets, std::nullopt, tree);
 }
 
+void GlobalPlanner::DistancesToGoal(const Costmap& costmap, CellIndex goal, CellIndex robot,
+                                    ShortestPathTree* field) const {
+  SearchImpl(costmap, goal, {robot}, std::nullopt, field, nullptr, CostModel::kLowerBound);
+}
+
 void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
                                const std::vector<CellIndex>& targets,
-                               std::optional<CellIndex> heuristic_goal,
-                               ShortestPathTree* tree) const {
+                               std::optional<CellIndex> heuristic_goal, ShortestPathTree* tree,
+                               const ShortestPathTree* goal_distances, CostModel model) const {
   const int width = costmap.width_cells();
   const int height = costmap.height_cells();
   const int padded_width = width + 2;
@@ -119,6 +130,7 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
   t.resolution_m_ = costmap.resolution_m();
   t.origin_m_ = costmap.origin_m();
   t.settled_count_ = 0;
+  t.stopped_at_cost_ = kInf;
   t.cost_.assign(padded_size, kInf);
   t.settled_.assign(padded_size, 0);
   t.length_cells_.resize(padded_size);  // read only where settled: no reset needed
@@ -162,7 +174,12 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
   for (int code = 0; code < 1024; ++code) {
     const int cell_cost = code & 0xff;
     const int penalty = (code & kUnknownBit) ? unknown_cost : 0;
-    if (code & kEscapeBit) {
+    if (model == CostModel::kLowerBound) {
+      // The unknown penalty goes once the cell is seen; inscribed cells may prove free.
+      multiplier[code] = cell_cost >= Costmap::kLethal
+                             ? kInf
+                             : static_cast<float>(1.0 + weight * cell_cost);
+    } else if (code & kEscapeBit) {
       multiplier[code] = static_cast<float>(1.0 + weight * (Costmap::kInscribed + penalty));
     } else if (cell_cost >= Costmap::kInscribed) {
       multiplier[code] = kInf;
@@ -181,7 +198,11 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
       ++targets_left;
     }
   }
-  const bool stop_early = targets_left > 0;
+  const bool from_goal = model == CostModel::kLowerBound;
+  const bool stop_early = targets_left > 0 && !from_goal;
+  // From the goal: settle on to 1.25 x the robot's cost, plus a margin, once it is settled.
+  constexpr float kFieldMarginCells = 20.0f;
+  float stop_above_cost = kInf;
 
   float* cost = t.cost_.data();
   float* length = t.length_cells_.data();
@@ -218,19 +239,37 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
   std::vector<std::vector<int32_t>>& buckets = t.buckets_;
   if (buckets.size() < bucket_count) buckets.resize(bucket_count);
   for (auto& bucket : buckets) bucket.clear();
-  auto bucket_of = [bucket_mask, inverse_width](float key) {
-    return static_cast<std::size_t>(key * inverse_width) & bucket_mask;
-  };
   // h per padded index; the goal's padded coordinates (the border shifts both alike).
   const int goal_col = heuristic_goal ? heuristic_goal->col + 1 : 0;
   const int goal_row = heuristic_goal ? heuristic_goal->row + 1 : 0;
   const bool use_heuristic = heuristic_goal.has_value();
+  // A field from an older costmap is a consistent heuristic except where an obstacle has gone
+  // since (there it may drop or jump): keys are then clamped into the queue's window and
+  // settled cells stay settled, so the path is valid though maybe not the cheapest.
+  const float* field = nullptr;
+  const uint8_t* field_settled = nullptr;
+  float field_floor = 0.0f;  // every cell the field did not settle costs at least this
+  if (use_heuristic && goal_distances != nullptr && goal_distances->SameGrid(costmap) &&
+      goal_distances->start() == *heuristic_goal) {
+    field = goal_distances->cost_.data();
+    field_settled = goal_distances->settled_.data();
+    if (goal_distances->stopped_at_cost_ != kInf) field_floor = goal_distances->stopped_at_cost_;
+  }
   auto heuristic = [&](int32_t p) -> float {
     if (!use_heuristic) return 0.0f;
+    if (field != nullptr && (field_settled[p] & kSettledBit)) return kHeuristicWeight * field[p];
     const int dc = std::abs(p % padded_width - goal_col);
     const int dr = std::abs(p / padded_width - goal_row);
     return kHeuristicWeight *
-           (static_cast<float>(std::max(dc, dr)) + (kSqrt2 - 1.0f) * std::min(dc, dr));
+           std::max(field_floor,
+                    static_cast<float>(std::max(dc, dr)) + (kSqrt2 - 1.0f) * std::min(dc, dr));
+  };
+  // Buckets are numbered absolutely and used circularly (index = number & mask).
+  std::size_t current = static_cast<std::size_t>(heuristic(start_index) * inverse_width);
+  auto bucket_of = [&](float key) {
+    std::size_t number = static_cast<std::size_t>(key * inverse_width);
+    if (field != nullptr) number = std::clamp(number, current, current + bucket_mask);
+    return number & bucket_mask;
   };
 
   cost[start_index] = 0.0f;
@@ -240,9 +279,8 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
   std::size_t queued = 1;  // entries in all buckets, stale ones included
   std::size_t settled_count = 0;
   bool done = false;
-  for (std::size_t current = bucket_of(heuristic(start_index)); queued > 0 && !done;
-       current = (current + 1) & bucket_mask) {
-    std::vector<int32_t>& bucket = buckets[current];
+  for (; queued > 0 && !done; ++current) {
+    std::vector<int32_t>& bucket = buckets[current & bucket_mask];
     for (std::size_t i = 0; i < bucket.size(); ++i) {
       const int32_t u = bucket[i];
       --queued;
@@ -255,14 +293,27 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
         break;
       }
       const float cost_u = cost[u];
+      if (from_goal) {
+        if (state & kTargetBit) stop_above_cost = 1.25f * cost_u + kFieldMarginCells;
+        if (cost_u > stop_above_cost) {
+          state &= ~kSettledBit;  // the first cell beyond: left out, as those after it
+          --settled_count;
+          t.stopped_at_cost_ = cost_u;
+          done = true;
+          break;
+        }
+      }
       const float length_u = length[u];
+      // Searching from the goal, a step u -> v is the path's step v -> u: it enters u.
+      const float m_u = mult[cls[u]];
       bool open[4];
       for (int k = 0; k < 4; ++k) {
         const int32_t v = u + orth[k];
-        const float m = mult[cls[v]];
+        float m = mult[cls[v]];
         open[k] = m != kInf;
+        if (from_goal && open[k]) m = m_u;
         const float candidate = cost_u + m;
-        if (candidate < cost[v]) {
+        if (candidate < cost[v] && !(field != nullptr && (settled[v] & kSettledBit))) {
           cost[v] = candidate;
           length[v] = length_u + 1.0f;
           parent[v] = u;
@@ -273,8 +324,9 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
       for (int k = 0; k < 4; ++k) {
         if (!open[diag_sides[k][0]] || !open[diag_sides[k][1]]) continue;
         const int32_t v = u + diag[k];
-        const float candidate = cost_u + kSqrt2 * mult[cls[v]];
-        if (candidate < cost[v]) {
+        const float m = mult[cls[v]];
+        const float candidate = cost_u + kSqrt2 * (from_goal && m != kInf ? m_u : m);
+        if (candidate < cost[v] && !(field != nullptr && (settled[v] & kSettledBit))) {
           cost[v] = candidate;
           length[v] = length_u + kSqrt2;
           parent[v] = u;
@@ -289,13 +341,14 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
 }
 
 std::optional<GlobalPath> GlobalPlanner::Plan(const Costmap& costmap, Point2d start_m,
-                                              Point2d goal_m, ShortestPathTree* scratch) const {
+                                              Point2d goal_m, ShortestPathTree* scratch,
+                                              const ShortestPathTree* goal_distances) const {
   const CellIndex start = costmap.WorldToCell(start_m);
   const CellIndex goal = costmap.WorldToCell(goal_m);
   if (!costmap.Contains(start) || !costmap.Traversable(goal)) return std::nullopt;
   ShortestPathTree local_tree;
   ShortestPathTree& tree = scratch != nullptr ? *scratch : local_tree;
-  SearchImpl(costmap, start, {goal}, goal, &tree);
+  SearchImpl(costmap, start, {goal}, goal, &tree, goal_distances);
   return tree.PathTo(goal);
 }
 

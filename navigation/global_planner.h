@@ -8,8 +8,12 @@
 // orthogonal neighbours enterable (no corner cutting). One search from the
 // robot gives path lengths and paths to any number of targets (what the
 // utility needs per decision); a single-goal query (Plan) is an A* search
-// that stops as soon as the goal is settled. Costs are accumulated in float
-// (relative error ~1e-7 per step); the queue is an exact bucket queue (see .cc).
+// that stops as soon as the goal is settled. Its heuristic is the octile
+// distance or, given one, a goal-distance field (DistancesToGoal): a lower
+// bound on the cost that goes around the walls, which in a building is far
+// nearer the true cost, so A* settles a band along the corridors, not an
+// ellipse through rooms and unknown space. Costs are accumulated in float (relative error
+// ~1e-7 per step); the queue is an exact bucket queue (see .cc).
 
 #include <cstddef>
 #include <cstdint>
@@ -56,6 +60,8 @@ class ShortestPathTree {
   CellIndex start() const { return start_; }
   // Cells settled by the search (the start included when on the map).
   std::size_t settled_count() const { return settled_count_; }
+  // Searched on a costmap of this size, origin and resolution.
+  bool SameGrid(const Costmap& costmap) const;
 
  private:
   friend class GlobalPlanner;
@@ -70,6 +76,7 @@ class ShortestPathTree {
   double resolution_m_ = 0.05;
   Point2d origin_m_;
   std::size_t settled_count_ = 0;
+  float stopped_at_cost_ = 0.0f;  // the search's last settled cost (+inf when it ran out)
   // Per padded cell. A cell is settled iff `settled_` is set; cost_ and
   // length_cells_ of unsettled cells are tentative, parent_ may be stale.
   std::vector<float> cost_;
@@ -97,15 +104,34 @@ class GlobalPlanner {
   // Path from `start` to `goal` in metres ("map"); nullopt when the goal is
   // not traversable or not reachable. Searches in `scratch` when given (its
   // memory reused, as Search's).
+  // `goal_distances`, when from DistancesToGoal for this goal's cell on a costmap of the same
+  // grid, is A*'s heuristic (else the octile distance). It may be from an older costmap:
+  // obstacles and costs added since keep it a lower bound; where an obstacle has gone, the
+  // path stays valid and may cost a little more than the best until the field is renewed.
   std::optional<GlobalPath> Plan(const Costmap& costmap, Point2d start_m, Point2d goal_m,
-                                 ShortestPathTree* scratch = nullptr) const;
+                                 ShortestPathTree* scratch = nullptr,
+                                 const ShortestPathTree* goal_distances = nullptr) const;
+  // Every cell's cost to reach `goal` (read with CostTo) when unknown cells cost nothing extra
+  // and only lethal cells (obstacles; unknown ones when unknown is not passable) are out, the
+  // inscribed zone and corners passable: a lower bound on every path's cost to `goal` in this
+  // costmap and in later ones that have seen more of the unknown or found more obstacles.
+  // Cells are settled outwards from `goal` until `robot` is and then on to twice its cost
+  // plus a margin (what a plan from `robot` or nearer can use); beyond, the field reads the
+  // cost it stopped at, itself a lower bound there.
+  void DistancesToGoal(const Costmap& costmap, CellIndex goal, CellIndex robot,
+                       ShortestPathTree* field) const;
 
   const GlobalPlannerOptions& options() const { return options_; }
 
  private:
-  // Search, as A* towards `heuristic_goal` when given (same costs, far fewer cells settled).
+  enum class CostModel { kPlanning, kLowerBound };  // kLowerBound: see DistancesToGoal
+  // Search, as A* towards `heuristic_goal` when given (same costs, far fewer cells settled),
+  // with `goal_distances` as the heuristic where it has a value.
+  // kLowerBound: the targets' first cell is the robot (see DistancesToGoal).
   void SearchImpl(const Costmap& costmap, CellIndex start, const std::vector<CellIndex>& targets,
-                  std::optional<CellIndex> heuristic_goal, ShortestPathTree* tree) const;
+                  std::optional<CellIndex> heuristic_goal, ShortestPathTree* tree,
+                  const ShortestPathTree* goal_distances = nullptr,
+                  CostModel model = CostModel::kPlanning) const;
 
   GlobalPlannerOptions options_;
 };

@@ -238,6 +238,139 @@ TEST(GlobalPlannerTest, PlanSettlesFewCellsTowardsItsGoal) {
   EXPECT_LT(plan_tree.settled_count() * 5, dijkstra.settled_count());
 }
 
+// With a goal-distance field made on the same costmap, a plan still costs the least possible.
+TEST(GlobalPlannerTest, PlansOnAGoalFieldCostEqualBellmanFordOnRandomGrids) {
+  int planned = 0;
+  for (int seed = 0; seed < 120; ++seed) {
+    const Costmap costmap = seed < 60 ? RandomCostmap(700 + seed, 3 + seed % 17, 3 + seed % 11)
+                                      : RandomCostmap(700 + seed, 50, 40);
+    const GlobalPlannerOptions options = RandomPlannerOptions(seed);
+    const GlobalPlanner planner(options);
+    std::mt19937 rng(seed);
+    const CellIndex start = RandomTraversableCell(rng, costmap);
+    if (start.col < 0) continue;
+    const std::vector<double> expected = BruteForceCosts(costmap, options, start);
+    for (int k = 0; k < 5; ++k) {
+      const CellIndex goal = RandomTraversableCell(rng, costmap);
+      const std::string where = "seed " + std::to_string(seed) + " goal " +
+                                std::to_string(goal.col) + "," + std::to_string(goal.row);
+      ShortestPathTree field;
+      // The field may be made from elsewhere than the plan's start (the robot moves on).
+      const CellIndex field_robot = k % 2 == 0 ? start : RandomTraversableCell(rng, costmap);
+      planner.DistancesToGoal(costmap, goal, field_robot, &field);
+      const double want = expected[costmap.LinearIndex(goal)];
+      const auto path = planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal),
+                                     nullptr, &field);
+      ASSERT_EQ(path.has_value(), want != kInf) << where;
+      if (!path) continue;
+      EXPECT_NEAR(path->cost, want, 1e-5 * (1.0 + want)) << where;
+      ExpectValidPath(costmap, options, *path, start, goal, where);
+      ++planned;
+    }
+  }
+  EXPECT_GT(planned, 300);
+}
+
+// The field never exceeds the cost of a path to the goal: it is a lower bound.
+TEST(GlobalPlannerTest, GoalFieldIsALowerBoundOnEveryPathCost) {
+  for (int seed = 0; seed < 40; ++seed) {
+    const Costmap costmap = RandomCostmap(500 + seed, 30, 25);
+    const GlobalPlannerOptions options = RandomPlannerOptions(seed);
+    std::mt19937 rng(seed);
+    const CellIndex goal = RandomTraversableCell(rng, costmap);
+    if (goal.col < 0) continue;
+    ShortestPathTree field;
+    GlobalPlanner(options).DistancesToGoal(costmap, goal, goal, &field);
+    // Costs to the goal = costs from it with every edge reversed: one search per start.
+    for (int row = 0; row < costmap.height_cells(); ++row) {
+      for (int col = 0; col < costmap.width_cells(); ++col) {
+        const CellIndex cell{col, row};
+        if (!costmap.Traversable(cell)) continue;
+        const double to_goal = BruteForceCosts(costmap, options, cell)[costmap.LinearIndex(goal)];
+        if (to_goal == kInf || !field.Reachable(cell)) continue;
+        EXPECT_LE(field.CostTo(cell), to_goal * (1.0 + 1e-6))
+            << "seed " << seed << " cell " << col << "," << row;
+      }
+    }
+  }
+}
+
+// On a real floor the field guides A* along the corridors: the same costs, far fewer cells.
+TEST(GlobalPlannerTest, CampusPlansOnAGoalFieldSettleFewerCellsForTheSameCost) {
+  const WorldInfo world = LoadWorld(std::string(ASLAM_SOURCE_DIR) + "/worlds/campus");
+  const Costmap costmap(world.map.grid, CostmapOptions{});
+  const GlobalPlanner planner;
+  const Point2d start_m{world.start.x_m, world.start.y_m};
+  const CellIndex start = costmap.WorldToCell(start_m);
+  std::mt19937 rng(11);
+  std::size_t settled_octile = 0, settled_field = 0;
+  int planned = 0;
+  while (planned < 6) {
+    const CellIndex goal = RandomTraversableCell(rng, costmap);
+    ShortestPathTree octile_tree, field_tree, field;
+    const auto octile = planner.Plan(costmap, start_m, costmap.CellCenter(goal), &octile_tree);
+    if (!octile) continue;
+    planner.DistancesToGoal(costmap, goal, start, &field);
+    const auto guided =
+        planner.Plan(costmap, start_m, costmap.CellCenter(goal), &field_tree, &field);
+    ASSERT_TRUE(guided.has_value());
+    EXPECT_NEAR(guided->cost, octile->cost, 1e-5 * octile->cost);
+    ExpectValidPath(costmap, planner.options(), *guided, start, goal, "campus");
+    settled_octile += octile_tree.settled_count();
+    settled_field += field_tree.settled_count();
+    ++planned;
+  }
+  EXPECT_LT(settled_field * 3, settled_octile);
+}
+
+// A field from an older map: walls added since keep plans the cheapest; where walls have gone
+// the plan is still a valid path, and a field for another goal or grid is not used at all.
+TEST(GlobalPlannerTest, StaleOrForeignGoalFieldsStillGiveValidPaths) {
+  int compared = 0;
+  for (int seed = 0; seed < 60; ++seed) {
+    std::mt19937 rng(seed);
+    const OccupancyGrid before = RandomGrid(rng, 40, 30, 0.08, 0.1);
+    OccupancyGrid added = before, changed = before;
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (std::size_t i = 0; i < before.cells().size(); ++i) {
+      const double draw = u01(rng);
+      if (draw < 0.05) {
+        added.mutable_cells()[i] = changed.mutable_cells()[i] = OccupancyGrid::kOccupied;
+      } else if (draw < 0.10 && before.cells()[i] == OccupancyGrid::kOccupied) {
+        changed.mutable_cells()[i] = OccupancyGrid::kFree;  // a wall gone
+      }
+    }
+    CostmapOptions costmap_options;
+    costmap_options.inflation_margin_m = 0.1;
+    const Costmap old_costmap(before, costmap_options);
+    const GlobalPlanner planner(RandomPlannerOptions(seed));
+    for (const OccupancyGrid* now : {&added, &changed}) {
+      const Costmap costmap(*now, costmap_options);
+      const CellIndex start = RandomTraversableCell(rng, costmap);
+      const CellIndex goal = RandomTraversableCell(rng, costmap);
+      if (start.col < 0 || goal.col < 0 || !old_costmap.Traversable(goal)) continue;
+      const std::string where = "seed " + std::to_string(seed);
+      ShortestPathTree stale, foreign, fresh_tree, stale_tree, foreign_tree;
+      planner.DistancesToGoal(old_costmap, goal, start, &stale);
+      planner.DistancesToGoal(costmap, start, goal, &foreign);  // towards another cell
+      const Point2d start_m = costmap.CellCenter(start), goal_m = costmap.CellCenter(goal);
+      const auto fresh = planner.Plan(costmap, start_m, goal_m, &fresh_tree);
+      const auto on_stale = planner.Plan(costmap, start_m, goal_m, &stale_tree, &stale);
+      const auto on_foreign = planner.Plan(costmap, start_m, goal_m, &foreign_tree, &foreign);
+      ASSERT_EQ(on_stale.has_value(), fresh.has_value()) << where;
+      ASSERT_EQ(on_foreign.has_value(), fresh.has_value()) << where;
+      if (!fresh) continue;
+      ExpectValidPath(costmap, planner.options(), *on_stale, start, goal, where);
+      EXPECT_GE(on_stale->cost, fresh->cost * (1.0 - 1e-6)) << where;
+      if (now == &added) EXPECT_NEAR(on_stale->cost, fresh->cost, 1e-5 * fresh->cost) << where;
+      EXPECT_EQ(on_foreign->cost, fresh->cost) << where;
+      EXPECT_EQ(foreign_tree.settled_count(), fresh_tree.settled_count()) << where;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 60);
+}
+
 TEST(GlobalPlannerTest, ManyTargetsSearchEqualsOneSearchPerTarget) {
   for (int seed = 0; seed < 12; ++seed) {
     const Costmap costmap = RandomCostmap(500 + seed, 60, 45);

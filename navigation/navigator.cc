@@ -10,6 +10,9 @@ namespace aslam {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// When the plans' goal-distance field is recomputed (see Replan).
+constexpr int64_t kGoalDistancesRenewUs = 30'000'000;
+constexpr std::size_t kFieldWeakSettledCells = 20'000;
 
 double Distance(Point2d a, Point2d b) { return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m); }
 Point2d Position(const Pose2d& pose) { return {pose.x_m, pose.y_m}; }
@@ -209,7 +212,22 @@ bool Navigator::Replan(int64_t utime) {
       return false;
     }
   }
-  std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, target, &plan_tree_);
+  // The goal-distance field is renewed for a new target or grid, when a plan settles three
+  // times the cells the first on it did (walls mapped since, or the robot off its extent, have
+  // made it weak), and now and then for walls gone since (a plan may then cost a little more).
+  const CellIndex target_cell = costmap_.WorldToCell(target);
+  const bool field_weak = plan_tree_.settled_count() > kFieldWeakSettledCells &&
+                          plan_tree_.settled_count() > 3 * field_first_plan_settled_;
+  if (!goal_distances_.SameGrid(costmap_) || goal_distances_.start() != target_cell ||
+      field_weak || utime < goal_distances_utime_ ||
+      utime - goal_distances_utime_ >= kGoalDistancesRenewUs) {
+    planner_.DistancesToGoal(costmap_, target_cell, costmap_.WorldToCell(robot), &goal_distances_);
+      goal_distances_utime_ = utime;
+    field_first_plan_settled_ = std::numeric_limits<std::size_t>::max();
+  }
+  std::optional<GlobalPath> path =
+      planner_.Plan(costmap_, robot, target, &plan_tree_, &goal_distances_);
+  field_first_plan_settled_ = std::min(field_first_plan_settled_, plan_tree_.settled_count());
   if (!path || path->points_m.empty()) {
     Stop(NavState::kUnreachable,
          Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,

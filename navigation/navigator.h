@@ -130,6 +130,10 @@ class Navigator {
   NavOptions options_;
   GlobalPlanner planner_;
   ShortestPathTree plan_tree_;  // the last plan's search, its memory reused by the next
+  // Distances around walls to the plan target: the plans' A* heuristic (see Replan).
+  ShortestPathTree goal_distances_;
+  int64_t goal_distances_utime_ = 0;
+  std::size_t field_first_plan_settled_ = 0;  // cells the first plan on the field settled
   DwaPlanner dwa_;
 
   OccupancyGrid map_;
