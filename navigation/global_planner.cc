@@ -175,10 +175,10 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
     const int cell_cost = code & 0xff;
     const int penalty = (code & kUnknownBit) ? unknown_cost : 0;
     if (model == CostModel::kLowerBound) {
-      // The unknown penalty goes once the cell is seen; inscribed cells may prove free.
-      multiplier[code] = cell_cost >= Costmap::kLethal
-                             ? kInf
-                             : static_cast<float>(1.0 + weight * cell_cost);
+      // The unknown penalty goes once the cell is seen. The inscribed zone stays out: a gap the
+      // robot does not fit through would otherwise make a long detour look short.
+      multiplier[code] =
+          cell_cost >= Costmap::kInscribed ? kInf : static_cast<float>(1.0 + weight * cell_cost);
     } else if (code & kEscapeBit) {
       multiplier[code] = static_cast<float>(1.0 + weight * (Costmap::kInscribed + penalty));
     } else if (cell_cost >= Costmap::kInscribed) {
@@ -260,9 +260,8 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
     if (field != nullptr && (field_settled[p] & kSettledBit)) return kHeuristicWeight * field[p];
     const int dc = std::abs(p % padded_width - goal_col);
     const int dr = std::abs(p / padded_width - goal_row);
-    return kHeuristicWeight *
-           std::max(field_floor,
-                    static_cast<float>(std::max(dc, dr)) + (kSqrt2 - 1.0f) * std::min(dc, dr));
+    return kHeuristicWeight * std::max(field_floor, static_cast<float>(std::max(dc, dr)) +
+                                                        (kSqrt2 - 1.0f) * std::min(dc, dr));
   };
   // Buckets are numbered absolutely and used circularly (index = number & mask).
   std::size_t current = static_cast<std::size_t>(heuristic(start_index) * inverse_width);

@@ -111,11 +111,10 @@ class GlobalPlanner {
   std::optional<GlobalPath> Plan(const Costmap& costmap, Point2d start_m, Point2d goal_m,
                                  ShortestPathTree* scratch = nullptr,
                                  const ShortestPathTree* goal_distances = nullptr) const;
-  // Every cell's cost to reach `goal` (read with CostTo) when unknown cells cost nothing extra
-  // and only lethal cells (obstacles; unknown ones when unknown is not passable) are out, the
-  // inscribed zone and corners passable: a lower bound on every path's cost to `goal` in this
-  // costmap and in later ones that have seen more of the unknown or found more obstacles.
-  // Cells are settled outwards from `goal` until `robot` is and then on to twice its cost
+  // Every cell's cost to reach `goal` (read with CostTo) when unknown cells cost nothing extra:
+  // a lower bound on every path's cost to `goal` in this costmap and in later ones that have
+  // seen more of the unknown or found more obstacles (not in one where an obstacle has gone).
+  // Cells are settled outwards from `goal` until `robot` is and then on to 1.25 x its cost
   // plus a margin (what a plan from `robot` or nearer can use); beyond, the field reads the
   // cost it stopped at, itself a lower bound there.
   void DistancesToGoal(const Costmap& costmap, CellIndex goal, CellIndex robot,

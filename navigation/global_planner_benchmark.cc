@@ -176,27 +176,37 @@ void BM_PlanAcrossCampus(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanAcrossCampus)->Unit(benchmark::kMillisecond);
 
-// Single-goal plans from the start to cells 10 m and 30 m away along the path
-// (the navigator's goals), into a reused tree as the navigator does.
-void BM_PlanCampusReuse(benchmark::State& state) {
+// The reachable cell whose path from the start is nearest `length_m` long.
+CellIndex CellAtPathLength(double length_m) {
   const Costmap& costmap = CampusCostmap();
-  const GlobalPlanner planner;
-  const double want_m = static_cast<double>(state.range(0));
-  static const ShortestPathTree all = planner.Search(costmap, StartCell());
+  static const ShortestPathTree all = GlobalPlanner().Search(costmap, StartCell());
   CellIndex goal = StartCell();
   for (int row = 0; row < costmap.height_cells(); ++row) {
     for (int col = 0; col < costmap.width_cells(); ++col) {
       const CellIndex cell{col, row};
       if (all.Reachable(cell) &&
-          std::abs(all.PathLengthM(cell) - want_m) < std::abs(all.PathLengthM(goal) - want_m)) {
+          std::abs(all.PathLengthM(cell) - length_m) < std::abs(all.PathLengthM(goal) - length_m)) {
         goal = cell;
       }
     }
   }
+  return goal;
+}
+
+// Single-goal plans from the start to cells 10, 30 and 60 m away along the path (the
+// navigator's goals), into a reused tree as the navigator does; second argument 1: on a
+// goal-distance field, as the navigator plans (the field made once, outside the loop).
+void BM_PlanCampusReuse(benchmark::State& state) {
+  const Costmap& costmap = CampusCostmap();
+  const GlobalPlanner planner;
+  const CellIndex goal = CellAtPathLength(static_cast<double>(state.range(0)));
+  ShortestPathTree field;
+  if (state.range(1) != 0) planner.DistancesToGoal(costmap, goal, StartCell(), &field);
   const Point2d start_m{Campus().start.x_m, Campus().start.y_m};
   ShortestPathTree tree;
   for (auto _ : state) {
-    const auto path = planner.Plan(costmap, start_m, costmap.CellCenter(goal), &tree);
+    const auto path = planner.Plan(costmap, start_m, costmap.CellCenter(goal), &tree,
+                                   state.range(1) != 0 ? &field : nullptr);
     if (!path) {
       state.SkipWithError("no path");
       return;
@@ -205,7 +215,21 @@ void BM_PlanCampusReuse(benchmark::State& state) {
   }
   state.counters["settled"] = static_cast<double>(tree.settled_count());
 }
-BENCHMARK(BM_PlanCampusReuse)->Arg(10)->Arg(30)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanCampusReuse)->ArgsProduct({{10, 30, 60}, {0, 1}})->Unit(benchmark::kMillisecond);
+
+// The goal-distance field for a goal 10, 30 or 60 m from the robot (once per goal).
+void BM_DistancesToGoalCampus(benchmark::State& state) {
+  const Costmap& costmap = CampusCostmap();
+  const GlobalPlanner planner;
+  const CellIndex goal = CellAtPathLength(static_cast<double>(state.range(0)));
+  ShortestPathTree field;
+  for (auto _ : state) {
+    planner.DistancesToGoal(costmap, goal, StartCell(), &field);
+    benchmark::DoNotOptimize(field.settled_count());
+  }
+  state.counters["settled"] = static_cast<double>(field.settled_count());
+}
+BENCHMARK(BM_DistancesToGoalCampus)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace aslam

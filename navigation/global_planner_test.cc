@@ -273,8 +273,8 @@ TEST(GlobalPlannerTest, PlansOnAGoalFieldCostEqualBellmanFordOnRandomGrids) {
 
 // The field never exceeds the cost of a path to the goal: it is a lower bound.
 TEST(GlobalPlannerTest, GoalFieldIsALowerBoundOnEveryPathCost) {
-  for (int seed = 0; seed < 40; ++seed) {
-    const Costmap costmap = RandomCostmap(500 + seed, 30, 25);
+  for (int seed = 0; seed < 30; ++seed) {
+    const Costmap costmap = RandomCostmap(500 + seed, 20, 15);
     const GlobalPlannerOptions options = RandomPlannerOptions(seed);
     std::mt19937 rng(seed);
     const CellIndex goal = RandomTraversableCell(rng, costmap);
@@ -327,9 +327,9 @@ TEST(GlobalPlannerTest, CampusPlansOnAGoalFieldSettleFewerCellsForTheSameCost) {
 // the plan is still a valid path, and a field for another goal or grid is not used at all.
 TEST(GlobalPlannerTest, StaleOrForeignGoalFieldsStillGiveValidPaths) {
   int compared = 0;
-  for (int seed = 0; seed < 60; ++seed) {
+  for (int seed = 0; seed < 150; ++seed) {
     std::mt19937 rng(seed);
-    const OccupancyGrid before = RandomGrid(rng, 40, 30, 0.08, 0.1);
+    const OccupancyGrid before = RandomGrid(rng, 40, 30, 0.06, 0.1);
     OccupancyGrid added = before, changed = before;
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     for (std::size_t i = 0; i < before.cells().size(); ++i) {
@@ -362,13 +362,15 @@ TEST(GlobalPlannerTest, StaleOrForeignGoalFieldsStillGiveValidPaths) {
       if (!fresh) continue;
       ExpectValidPath(costmap, planner.options(), *on_stale, start, goal, where);
       EXPECT_GE(on_stale->cost, fresh->cost * (1.0 - 1e-6)) << where;
-      if (now == &added) EXPECT_NEAR(on_stale->cost, fresh->cost, 1e-5 * fresh->cost) << where;
+      if (now == &added) {
+        EXPECT_NEAR(on_stale->cost, fresh->cost, 1e-5 * fresh->cost) << where;
+      }
       EXPECT_EQ(on_foreign->cost, fresh->cost) << where;
       EXPECT_EQ(foreign_tree.settled_count(), fresh_tree.settled_count()) << where;
       ++compared;
     }
   }
-  EXPECT_GT(compared, 60);
+  EXPECT_GT(compared, 100);
 }
 
 TEST(GlobalPlannerTest, ManyTargetsSearchEqualsOneSearchPerTarget) {

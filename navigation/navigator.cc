@@ -218,11 +218,10 @@ bool Navigator::Replan(int64_t utime) {
   const CellIndex target_cell = costmap_.WorldToCell(target);
   const bool field_weak = plan_tree_.settled_count() > kFieldWeakSettledCells &&
                           plan_tree_.settled_count() > 3 * field_first_plan_settled_;
-  if (!goal_distances_.SameGrid(costmap_) || goal_distances_.start() != target_cell ||
-      field_weak || utime < goal_distances_utime_ ||
-      utime - goal_distances_utime_ >= kGoalDistancesRenewUs) {
+  if (!goal_distances_.SameGrid(costmap_) || goal_distances_.start() != target_cell || field_weak ||
+      utime < goal_distances_utime_ || utime - goal_distances_utime_ >= kGoalDistancesRenewUs) {
     planner_.DistancesToGoal(costmap_, target_cell, costmap_.WorldToCell(robot), &goal_distances_);
-      goal_distances_utime_ = utime;
+    goal_distances_utime_ = utime;
     field_first_plan_settled_ = std::numeric_limits<std::size_t>::max();
   }
   std::optional<GlobalPath> path =
