@@ -344,19 +344,22 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
 void AssignFrontierIds(const std::vector<Frontier>& previous, double match_distance_m,
                        std::vector<Frontier>* frontiers, int* next_id) {
   std::vector<Frontier>& current = *frontiers;
-  // Every close pair, closest first (ties by index: deterministic).
+  // Every close pair, closest first (ties by index: deterministic); squared distances order
+  // the pairs as distances do.
   std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  const double match_distance2 = match_distance_m * match_distance_m;
   for (std::size_t i = 0; i < current.size(); ++i) {
     for (std::size_t j = 0; j < previous.size(); ++j) {
-      const double d = std::hypot(current[i].centroid_m.x_m - previous[j].centroid_m.x_m,
-                                  current[i].centroid_m.y_m - previous[j].centroid_m.y_m);
-      if (d <= match_distance_m) pairs.emplace_back(d, i, j);
+      const double dx = current[i].centroid_m.x_m - previous[j].centroid_m.x_m;
+      const double dy = current[i].centroid_m.y_m - previous[j].centroid_m.y_m;
+      const double d2 = dx * dx + dy * dy;
+      if (d2 <= match_distance2) pairs.emplace_back(d2, i, j);
     }
   }
   std::sort(pairs.begin(), pairs.end());
   std::vector<bool> current_taken(current.size(), false);
   std::vector<bool> previous_taken(previous.size(), false);
-  for (const auto& [d, i, j] : pairs) {
+  for (const auto& [d2, i, j] : pairs) {
     if (current_taken[i] || previous_taken[j]) continue;
     current_taken[i] = previous_taken[j] = true;
     current[i].id = previous[j].id;

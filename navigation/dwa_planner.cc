@@ -93,23 +93,25 @@ double Distance(const Point2d& a, const Point2d& b) {
   return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
 }
 
-double DistanceToSegment(const Point2d& p, const Point2d& a, const Point2d& b) {
+double SquaredDistanceToSegment(const Point2d& p, const Point2d& a, const Point2d& b) {
   const double abx = b.x_m - a.x_m, aby = b.y_m - a.y_m;
   const double length2 = abx * abx + aby * aby;
   double t = 0.0;
   if (length2 > 0.0) {
     t = std::clamp(((p.x_m - a.x_m) * abx + (p.y_m - a.y_m) * aby) / length2, 0.0, 1.0);
   }
-  return std::hypot(p.x_m - (a.x_m + t * abx), p.y_m - (a.y_m + t * aby));
+  const double dx = p.x_m - (a.x_m + t * abx), dy = p.y_m - (a.y_m + t * aby);
+  return dx * dx + dy * dy;
 }
 
 double DistanceToPolyline(const Point2d& p, const std::vector<Point2d>& polyline) {
   if (polyline.size() == 1) return Distance(p, polyline.front());
+  // One square root for the nearest segment rather than one per segment.
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i + 1 < polyline.size(); ++i) {
-    best = std::min(best, DistanceToSegment(p, polyline[i], polyline[i + 1]));
+    best = std::min(best, SquaredDistanceToSegment(p, polyline[i], polyline[i + 1]));
   }
-  return best;
+  return std::sqrt(best);
 }
 
 // `count` values evenly over [lo, hi] plus `extra` when it lies inside.
