@@ -191,7 +191,8 @@ TEST(GlobalPlannerTest, DijkstraEqualsBellmanFordOnRandomGrids) {
   EXPECT_GT(reachable_checked, 20000);
 }
 
-// Plan is an A* search: its paths must cost exactly what the one-to-all search says.
+// Plan is an A* search: its paths must cost exactly what the one-to-all search says, on the
+// octile heuristic and on a goal-distance field of the same costmap.
 TEST(GlobalPlannerTest, PlanCostsEqualBellmanFordOnRandomGrids) {
   int planned = 0;
   for (int seed = 0; seed < 120; ++seed) {
@@ -209,16 +210,23 @@ TEST(GlobalPlannerTest, PlanCostsEqualBellmanFordOnRandomGrids) {
       const std::string where = "seed " + std::to_string(seed) + " goal " +
                                 std::to_string(goal.col) + "," + std::to_string(goal.row);
       const double want = expected[costmap.LinearIndex(goal)];
-      const auto path = planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal),
-                                     k % 2 == 0 ? &scratch : nullptr);
-      ASSERT_EQ(path.has_value(), want != kInf) << where;
-      if (!path) continue;
-      EXPECT_NEAR(path->cost, want, 1e-5 * (1.0 + want)) << where;
-      ExpectValidPath(costmap, options, *path, start, goal, where);
-      ++planned;
+      ShortestPathTree field;
+      // The field may be made from elsewhere than the plan's start (the robot moves on).
+      const CellIndex field_robot = k % 2 == 0 ? start : RandomTraversableCell(rng, costmap);
+      planner.DistancesToGoal(costmap, goal, field_robot, &field);
+      for (const ShortestPathTree* heuristic : {static_cast<ShortestPathTree*>(nullptr), &field}) {
+        const auto path = planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal),
+                                       k % 2 == 0 ? &scratch : nullptr, heuristic);
+        const std::string how = where + (heuristic ? " on the field" : " on octile");
+        ASSERT_EQ(path.has_value(), want != kInf) << how;
+        if (!path) continue;
+        EXPECT_NEAR(path->cost, want, 1e-5 * (1.0 + want)) << how;
+        ExpectValidPath(costmap, options, *path, start, goal, how);
+        ++planned;
+      }
     }
   }
-  EXPECT_GT(planned, 300);
+  EXPECT_GT(planned, 600);
 }
 
 // Towards one goal in the open, A* settles a narrow band, not the disc Dijkstra settles.
@@ -236,39 +244,6 @@ TEST(GlobalPlannerTest, PlanSettlesFewCellsTowardsItsGoal) {
   const ShortestPathTree dijkstra = planner.Search(costmap, start, {goal});
   EXPECT_EQ(dijkstra.CostTo(goal), path->cost);
   EXPECT_LT(plan_tree.settled_count() * 5, dijkstra.settled_count());
-}
-
-// With a goal-distance field made on the same costmap, a plan still costs the least possible.
-TEST(GlobalPlannerTest, PlansOnAGoalFieldCostEqualBellmanFordOnRandomGrids) {
-  int planned = 0;
-  for (int seed = 0; seed < 120; ++seed) {
-    const Costmap costmap = seed < 60 ? RandomCostmap(700 + seed, 3 + seed % 17, 3 + seed % 11)
-                                      : RandomCostmap(700 + seed, 50, 40);
-    const GlobalPlannerOptions options = RandomPlannerOptions(seed);
-    const GlobalPlanner planner(options);
-    std::mt19937 rng(seed);
-    const CellIndex start = RandomTraversableCell(rng, costmap);
-    if (start.col < 0) continue;
-    const std::vector<double> expected = BruteForceCosts(costmap, options, start);
-    for (int k = 0; k < 5; ++k) {
-      const CellIndex goal = RandomTraversableCell(rng, costmap);
-      const std::string where = "seed " + std::to_string(seed) + " goal " +
-                                std::to_string(goal.col) + "," + std::to_string(goal.row);
-      ShortestPathTree field;
-      // The field may be made from elsewhere than the plan's start (the robot moves on).
-      const CellIndex field_robot = k % 2 == 0 ? start : RandomTraversableCell(rng, costmap);
-      planner.DistancesToGoal(costmap, goal, field_robot, &field);
-      const double want = expected[costmap.LinearIndex(goal)];
-      const auto path = planner.Plan(costmap, costmap.CellCenter(start), costmap.CellCenter(goal),
-                                     nullptr, &field);
-      ASSERT_EQ(path.has_value(), want != kInf) << where;
-      if (!path) continue;
-      EXPECT_NEAR(path->cost, want, 1e-5 * (1.0 + want)) << where;
-      ExpectValidPath(costmap, options, *path, start, goal, where);
-      ++planned;
-    }
-  }
-  EXPECT_GT(planned, 300);
 }
 
 // The field never exceeds the cost of a path to the goal: it is a lower bound.
