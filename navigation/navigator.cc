@@ -217,7 +217,7 @@ bool Navigator::Replan(int64_t utime) {
   // made it weak), and now and then for walls gone since (a plan may then cost a little more).
   const CellIndex target_cell = costmap_.WorldToCell(target);
   const bool field_weak = plan_tree_.settled_count() > kFieldWeakSettledCells &&
-                          plan_tree_.settled_count() > 3 * field_first_plan_settled_;
+                          plan_tree_.settled_count() / 3 > field_first_plan_settled_;
   if (!goal_distances_.SameGrid(costmap_) || goal_distances_.start() != target_cell || field_weak ||
       utime < goal_distances_utime_ || utime - goal_distances_utime_ >= kGoalDistancesRenewUs) {
     planner_.DistancesToGoal(costmap_, target_cell, costmap_.WorldToCell(robot), &goal_distances_);

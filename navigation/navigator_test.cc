@@ -349,6 +349,32 @@ TEST(Navigator, ReplansWhenTheMapBlocksThePath) {
   EXPECT_GT(out.status.distance_remaining_m, direct_m + 5.0);
 }
 
+// Plans use a goal-distance field made when the goal came. A gap that opens later is a wall gone
+// from that field: the route through it is taken at the latest when the field is renewed (30 s).
+TEST(Navigator, AWallGoneSinceTheGoalIsUsedOnceTheFieldIsRenewed) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/false));
+  const Pose2d robot{2.0, 2.5, 0.0};
+  navigator.SetPose(PoseAt(kCycleUs, robot));
+  navigator.SetGoal(1, {8.0, 2.5}, 0);
+  NavOutput out = navigator.Step(kCycleUs);
+  ASSERT_TRUE(out.replanned);
+  const auto max_y = [&] {
+    double y = 0.0;
+    for (const Point2d& p : navigator.path_m()) y = std::max(y, p.y_m);
+    return y;
+  };
+  EXPECT_GT(max_y(), 6.5);  // through the north gap, the only one
+
+  navigator.SetMap(Room(true, /*south_gap=*/true));
+  for (int64_t utime = 2 * kCycleUs; utime <= 32'000'000; utime += kCycleUs) {
+    navigator.SetPose(PoseAt(utime, robot));  // held in place: only the plans change
+    out = navigator.Step(utime);
+    ASSERT_EQ(out.status.state, NavState::kActive);
+  }
+  EXPECT_LT(max_y(), 4.0);  // through the south gap
+}
+
 TEST(Navigator, ReplansAtTheReplanPeriod) {
   Navigator navigator{NavOptions{}};
   navigator.SetMap(Room());
