@@ -2,9 +2,9 @@
 # The fault matrix (issue 16): process-mode explorations of worlds/test, 300 simulated s,
 # one undisturbed and one per fault: SIGKILL of slam, frontier, utility or nav at a random
 # time, SIGSTOP of slam for 5 s then SIGCONT, and a utility hung (SIGSTOP) for 60 s, then
-# SIGKILLed. Each run completes (exit 0), reaches
-# coverage >= 0.9 x the undisturbed run's, records the restart, and keyframe ids run on
-# across it (graph.g2o: ids 0..N-1, no jump between consecutive keyframes).
+# SIGKILLed. Each run completes (exit 0), reaches coverage >= 0.9 x the undisturbed run's,
+# records the restart, and keyframe ids run on across it (graph.g2o: ids 0..N-1, no jump
+# between consecutive keyframes).
 #   fault_matrix_process_test.sh SOURCE_DIR BUILD_DIR [RATE [WORLD [DURATION_S]]]
 # (another world, e.g. worlds/office at rate 3, for the issue's own setting)
 # An undisturbed run that ends below 0.8 coverage is shown and run once more (see below).
@@ -52,8 +52,8 @@ run() {
         sleep "$(awk -v r="$rate" 'BEGIN { print 5.0 / r }')"  # 5 simulated s
         kill -CONT "$pid"
       elif [[ "$fault" == hang ]]; then
-        # Hung for 60 simulated s, then killed: the robot has finished its goal and stands, so
-        # no new map revision comes to prompt the restarted process.
+        # Hung for 60 simulated s, then killed: long enough for the robot to finish its goal and
+        # stand, so that no new map revision comes to prompt the restarted process.
         kill -STOP "$pid"
         sleep "$(awk -v r="$rate" 'BEGIN { print 60.0 / r }')"
         kill -KILL "$pid"
