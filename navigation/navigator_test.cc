@@ -36,6 +36,13 @@ OccupancyGrid Room(bool divider = false, bool south_gap = true) {
 
 StampedPose PoseAt(int64_t utime, const Pose2d& pose) { return {utime, pose, 0.0, 0.0}; }
 
+// How far north the current path reaches: which of Room's divider gaps it goes through.
+double MaxPathY(const Navigator& navigator) {
+  double y = 0.0;
+  for (const Point2d& p : navigator.path_m()) y = std::max(y, p.y_m);
+  return y;
+}
+
 // Drives a unicycle exactly along the commanded arc, no dynamics, no collisions.
 Pose2d Integrate(const Pose2d& pose, const VelocityCommand& command, double dt_s) {
   Pose2d next = pose;
@@ -326,12 +333,7 @@ TEST(Navigator, ReplansWhenTheMapBlocksThePath) {
   navigator.SetGoal(1, {8.0, 2.5}, 0);
   NavOutput out = navigator.Step(kCycleUs);
   ASSERT_TRUE(out.replanned);
-  const auto max_y = [&] {
-    double y = 0.0;
-    for (const Point2d& p : navigator.path_m()) y = std::max(y, p.y_m);
-    return y;
-  };
-  EXPECT_LT(max_y(), 4.0);  // through the south gap
+  EXPECT_LT(MaxPathY(navigator), 4.0);  // through the south gap
   const double direct_m = out.status.distance_remaining_m;
 
   navigator.SetPose(PoseAt(2 * kCycleUs, robot));
@@ -345,7 +347,7 @@ TEST(Navigator, ReplansWhenTheMapBlocksThePath) {
   out = navigator.Step(4 * kCycleUs);
   EXPECT_TRUE(out.replanned);
   EXPECT_EQ(out.status.state, NavState::kActive);
-  EXPECT_GT(max_y(), 6.5);  // through the north gap
+  EXPECT_GT(MaxPathY(navigator), 6.5);  // through the north gap
   EXPECT_GT(out.status.distance_remaining_m, direct_m + 5.0);
 }
 
@@ -359,12 +361,7 @@ TEST(Navigator, AWallGoneSinceTheGoalIsUsedOnceTheFieldIsRenewed) {
   navigator.SetGoal(1, {8.0, 2.5}, 0);
   NavOutput out = navigator.Step(kCycleUs);
   ASSERT_TRUE(out.replanned);
-  const auto max_y = [&] {
-    double y = 0.0;
-    for (const Point2d& p : navigator.path_m()) y = std::max(y, p.y_m);
-    return y;
-  };
-  EXPECT_GT(max_y(), 6.5);  // through the north gap, the only one
+  EXPECT_GT(MaxPathY(navigator), 6.5);  // through the north gap, the only one
 
   navigator.SetMap(Room(true, /*south_gap=*/true));
   for (int64_t utime = 2 * kCycleUs; utime <= 32'000'000; utime += kCycleUs) {
@@ -372,7 +369,7 @@ TEST(Navigator, AWallGoneSinceTheGoalIsUsedOnceTheFieldIsRenewed) {
     out = navigator.Step(utime);
     ASSERT_EQ(out.status.state, NavState::kActive);
   }
-  EXPECT_LT(max_y(), 4.0);  // through the south gap
+  EXPECT_LT(MaxPathY(navigator), 4.0);  // through the south gap
 }
 
 TEST(Navigator, ReplansAtTheReplanPeriod) {
