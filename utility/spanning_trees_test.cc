@@ -71,6 +71,33 @@ TEST(DOptimalityTest, EigenvaluesAtOrBelowFloorAreSkipped) {
   EXPECT_EQ(DOptimality(Eigen::Matrix3d::Zero()), 0.0);
 }
 
+TEST(DOptimalityTest, RotatedSingularMatrixStillSkipsItsZeroEigenvalue) {
+  // R·diag(8, 27, 0)·Rᵀ: no zero on the diagonal, yet one eigenvalue is 0: still 6.
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(3, -1, 2).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d information =
+      rotation * Eigen::Vector3d(8, 27, 0).asDiagonal() * rotation.transpose();
+  EXPECT_NEAR(DOptimality(information), 6.0, 1e-9);
+}
+
+TEST(DOptimalityTest, AgreesWithTheEigenvaluesOnEdgeLikeInformation) {
+  // Information as edges carry it: translation 1e2..1e6, rotation 1e1..1e5, correlated.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> log10_scale(1.0, 6.0), angle(-M_PI, M_PI);
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::Vector3d eigenvalues(std::pow(10.0, log10_scale(random)),
+                                      std::pow(10.0, log10_scale(random)),
+                                      std::pow(10.0, log10_scale(random)));
+    const Eigen::Matrix3d rotation =
+        Eigen::AngleAxisd(angle(random),
+                          Eigen::Vector3d(angle(random), angle(random), angle(random)).normalized())
+            .toRotationMatrix();
+    const Eigen::Matrix3d information = rotation * eigenvalues.asDiagonal() * rotation.transpose();
+    const double expected = std::cbrt(eigenvalues.prod());
+    EXPECT_LT(RelativeError(DOptimality(information), expected), 1e-9) << "trial " << trial;
+  }
+}
+
 TEST(EOptimalityTest, MinEigenvalue) {
   EXPECT_NEAR(EOptimality(Eigen::Vector3d(5, 3, 9).asDiagonal()), 3.0, 1e-12);
 }
