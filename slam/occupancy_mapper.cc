@@ -219,10 +219,7 @@ LogOddsRenderer::LogOddsRenderer(const OccupancyMapperOptions& options)
       free_logit_(std::log(free_threshold_ / (1.0 - free_threshold_))),
       occupied_logit_(std::log(occupied_threshold_ / (1.0 - occupied_threshold_))) {}
 
-int8_t LogOddsRenderer::operator()(float log_odds) const {
-  constexpr double kMargin = 1e-6;
-  if (log_odds < free_logit_ - kMargin) return OccupancyGrid::kFree;
-  if (log_odds > occupied_logit_ + kMargin) return OccupancyGrid::kOccupied;
+int8_t LogOddsRenderer::RenderBetween(float log_odds) const {
   const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(log_odds)));
   return p <= free_threshold_       ? OccupancyGrid::kFree
          : p >= occupied_threshold_ ? OccupancyGrid::kOccupied

@@ -39,9 +39,17 @@ struct OccupancyMapperOptions {
 class LogOddsRenderer {
  public:
   explicit LogOddsRenderer(const OccupancyMapperOptions& options);
-  int8_t operator()(float log_odds) const;
+  // Inline: called once per cell of every rendered map.
+  int8_t operator()(float log_odds) const {
+    constexpr double kMargin = 1e-6;
+    if (log_odds < free_logit_ - kMargin) return OccupancyGrid::kFree;
+    if (log_odds > occupied_logit_ + kMargin) return OccupancyGrid::kOccupied;
+    return RenderBetween(log_odds);
+  }
 
  private:
+  int8_t RenderBetween(float log_odds) const;  // near the thresholds: exp() needed
+
   double free_threshold_, occupied_threshold_;
   double free_logit_, occupied_logit_;  // clearly past one of these: no exp() needed
 };
@@ -88,7 +96,14 @@ class OccupancyMapper {
   Extent extent() const { return {origin_col_, origin_row_, width_cells_, height_cells_}; }
   // Calls f(col, row, log_odds) for every observed cell, row by row (global indices).
   template <class F>
-  void ForEachObserved(F f) const;
+  void ForEachObserved(F f) const {
+    ForEachObservedIn(
+        {origin_col_, origin_row_, origin_col_ + width_cells_ - 1, origin_row_ + height_cells_ - 1},
+        f);
+  }
+  // The same for the observed cells inside `box`.
+  template <class F>
+  void ForEachObservedIn(const CellBox& box, F f) const;
   // The log-odds of a global cell; NaN when never observed or outside the grid.
   float LogOddsAt(int col, int row) const;
 
@@ -155,10 +170,14 @@ int OccupancyMapper::CountBeamCells(const Pose2d& base_in_map, const LidarScan& 
 }
 
 template <class F>
-void OccupancyMapper::ForEachObserved(F f) const {
-  for (int row = 0; row < height_cells_; ++row) {
+void OccupancyMapper::ForEachObservedIn(const CellBox& box, F f) const {
+  const int first_col = std::max(0, box.min_col - origin_col_);
+  const int last_col = std::min(width_cells_ - 1, box.max_col - origin_col_);
+  const int first_row = std::max(0, box.min_row - origin_row_);
+  const int last_row = std::min(height_cells_ - 1, box.max_row - origin_row_);
+  for (int row = first_row; row <= last_row; ++row) {
     const Cell* cells = cells_.data() + static_cast<std::size_t>(row) * width_cells_;
-    for (int col = 0; col < width_cells_; ++col) {
+    for (int col = first_col; col <= last_col; ++col) {
       if (!std::isnan(cells[col].log_odds))
         f(col + origin_col_, row + origin_row_, cells[col].log_odds);
     }

@@ -46,7 +46,10 @@ int SubmapMap::InsertScan(const Pose2d& base_in_map, const LidarScan& scan) {
     submaps_.emplace_back(options_);
     scans_in_open_submap_ = 0;
   }
-  submaps_.back().InsertScan(base_in_map, scan);
+  // Closing a submap moves its log-odds into the sum: no cell's total changes.
+  if (const std::optional<CellBox> box = submaps_.back().InsertScan(base_in_map, scan)) {
+    MarkChanged(*box);
+  }
   ++scans_in_open_submap_;
   return static_cast<int>(submaps_.size()) - 1;
 }
@@ -61,6 +64,23 @@ void SubmapMap::RerenderSubmap(int index, const std::vector<PosedScan>& scans) {
   submap.Clear();
   for (const PosedScan& posed : scans) submap.InsertScan(posed.base_in_map, *posed.scan);
   if (closed) Fuse(submap, +1);
+  // A grid's extent only grows, so the new one holds every cell the old scans touched too.
+  const OccupancyMapper::Extent e = submap.extent();
+  if (e.width > 0 && e.height > 0) {
+    MarkChanged(
+        {e.origin_col, e.origin_row, e.origin_col + e.width - 1, e.origin_row + e.height - 1});
+  }
+}
+
+void SubmapMap::MarkChanged(const CellBox& box) {
+  if (!changed_) {
+    changed_ = box;
+    return;
+  }
+  changed_->min_col = std::min(changed_->min_col, box.min_col);
+  changed_->min_row = std::min(changed_->min_row, box.min_row);
+  changed_->max_col = std::max(changed_->max_col, box.max_col);
+  changed_->max_row = std::max(changed_->max_row, box.max_row);
 }
 
 void SubmapMap::GrowFusionToCover(const OccupancyMapper::Extent& e) {
@@ -115,37 +135,75 @@ int SubmapMap::CountRevealedCells(const Pose2d& base_in_map, const LidarScan& sc
   });
 }
 
-OccupancyGrid SubmapMap::Render() const {
-  if (empty()) return OccupancyGrid();
-  // The sum's extent and the open submap's, together.
-  const OccupancyMapper::Extent open = submaps_.back().extent();
-  const OccupancyMapper::Extent all = Covering(fusion_, open);
+void SubmapMap::RelayoutRendered(const OccupancyMapper::Extent& extent) {
   const double res = options_.resolution_m;
-  OccupancyGrid grid(all.width, all.height, res, {all.origin_col * res, all.origin_row * res});
-  std::vector<int32_t> sum(static_cast<std::size_t>(all.width) * all.height, 0);
-  std::vector<uint8_t> observed(sum.size(), 0);
-  for (int row = 0; row < fusion_.height; ++row) {
-    const std::size_t from = static_cast<std::size_t>(row) * fusion_.width;
-    const std::size_t to =
-        static_cast<std::size_t>(row + fusion_.origin_row - all.origin_row) * all.width +
-        (fusion_.origin_col - all.origin_col);
-    for (int col = 0; col < fusion_.width; ++col) {
-      sum[to + col] = sum_milli_[from + col];
-      observed[to + col] = observers_[from + col] > 0;
+  OccupancyGrid grid(extent.width, extent.height, res,
+                     {extent.origin_col * res, extent.origin_row * res});
+  const OccupancyMapper::Extent& old = rendered_extent_;
+  // Both extents hold whole rows of global cells: copy the old one's rows into place.
+  for (int row = 0; row < old.height; ++row) {
+    const int to_row = row + old.origin_row - extent.origin_row;
+    std::copy_n(rendered_.cells().begin() + static_cast<std::size_t>(row) * old.width, old.width,
+                grid.mutable_cells().begin() + static_cast<std::size_t>(to_row) * extent.width +
+                    (old.origin_col - extent.origin_col));
+  }
+  rendered_ = std::move(grid);
+  rendered_extent_ = extent;
+}
+
+OccupancyGrid SubmapMap::Render() {
+  if (empty()) return OccupancyGrid();
+  // The sum's extent and the open submap's, together (and the last render's: grids only grow).
+  const OccupancyMapper& open = submaps_.back();
+  const OccupancyMapper::Extent all = Covering(Covering(fusion_, open.extent()), rendered_extent_);
+  const OccupancyMapper::Extent& was = rendered_extent_;
+  if (all.origin_col != was.origin_col || all.origin_row != was.origin_row ||
+      all.width != was.width || all.height != was.height) {
+    RelayoutRendered(all);
+  }
+  if (!changed_) return rendered_;
+  const int min_col = std::max(changed_->min_col, all.origin_col);
+  const int max_col = std::min(changed_->max_col, all.origin_col + all.width - 1);
+  const int min_row = std::max(changed_->min_row, all.origin_row);
+  const int max_row = std::min(changed_->max_row, all.origin_row + all.height - 1);
+  changed_.reset();
+  if (min_col > max_col || min_row > max_row) return rendered_;
+  // The box's summed log-odds and whether any submap observed each cell, as in one render.
+  const int box_width = max_col - min_col + 1;
+  const std::size_t box_cells = static_cast<std::size_t>(box_width) * (max_row - min_row + 1);
+  sum_scratch_.assign(box_cells, 0);
+  observed_scratch_.assign(box_cells, 0);
+  auto box_index = [&](int col, int row) {
+    return static_cast<std::size_t>(row - min_row) * box_width + (col - min_col);
+  };
+  const int fusion_min_col = std::max(min_col, fusion_.origin_col);
+  const int fusion_max_col = std::min(max_col, fusion_.origin_col + fusion_.width - 1);
+  for (int row = std::max(min_row, fusion_.origin_row);
+       row <= std::min(max_row, fusion_.origin_row + fusion_.height - 1); ++row) {
+    const std::size_t from = static_cast<std::size_t>(row - fusion_.origin_row) * fusion_.width;
+    for (int col = fusion_min_col; col <= fusion_max_col; ++col) {
+      const std::size_t f = from + (col - fusion_.origin_col);
+      sum_scratch_[box_index(col, row)] = sum_milli_[f];
+      observed_scratch_[box_index(col, row)] = observers_[f] > 0;
     }
   }
-  submaps_.back().ForEachObserved([&](int col, int row, float log_odds) {
-    const std::size_t i =
-        static_cast<std::size_t>(row - all.origin_row) * all.width + (col - all.origin_col);
-    sum[i] += ToMilli(log_odds);
-    observed[i] = 1;
-  });
+  open.ForEachObservedIn({min_col, min_row, max_col, max_row},
+                         [&](int col, int row, float log_odds) {
+                           sum_scratch_[box_index(col, row)] += ToMilli(log_odds);
+                           observed_scratch_[box_index(col, row)] = 1;
+                         });
   const LogOddsRenderer render(options_);
-  std::vector<int8_t>& cells = grid.mutable_cells();
-  for (std::size_t i = 0; i < sum.size(); ++i) {
-    if (observed[i]) cells[i] = render(static_cast<float>(sum[i] / kMilli));
+  std::vector<int8_t>& cells = rendered_.mutable_cells();
+  for (int row = min_row; row <= max_row; ++row) {
+    int8_t* out = cells.data() + static_cast<std::size_t>(row - all.origin_row) * all.width +
+                  (min_col - all.origin_col);
+    const std::size_t in = box_index(min_col, row);
+    for (int c = 0; c < box_width; ++c) {
+      out[c] = observed_scratch_[in + c] ? render(static_cast<float>(sum_scratch_[in + c] / kMilli))
+                                         : OccupancyGrid::kUnknown;
+    }
   }
-  return grid;
+  return rendered_;
 }
 
 }  // namespace aslam

@@ -8,6 +8,7 @@
 // closure is the moved keyframes', not the map's.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -40,7 +41,8 @@ class SubmapMap {
 
   // The fused map: -1 where no submap observed a cell, else round(100 * p_occupied) of the
   // summed log-odds, thresholded as OccupancyMapper::Render. Empty grid when empty().
-  OccupancyGrid Render() const;
+  // Renders only the cells changed since the last call; the rest comes from that call's grid.
+  OccupancyGrid Render();
   bool empty() const;
   int num_submaps() const { return static_cast<int>(submaps_.size()); }
 
@@ -49,6 +51,9 @@ class SubmapMap {
   void Fuse(const OccupancyMapper& submap, int sign);
   void GrowFusionToCover(const OccupancyMapper::Extent& extent);
   bool FusionObserved(int col, int row) const;
+  void MarkChanged(const CellBox& box);
+  // The last render laid out over `extent` (the cells outside what it covered unknown).
+  void RelayoutRendered(const OccupancyMapper::Extent& extent);
 
   OccupancyMapperOptions options_;
   std::vector<OccupancyMapper> submaps_;  // the last one is open: not in the sum yet
@@ -57,6 +62,12 @@ class SubmapMap {
   OccupancyMapper::Extent fusion_;
   std::vector<int32_t> sum_milli_;
   std::vector<uint16_t> observers_;  // closed submaps that observed the cell
+  // The last Render()'s grid, its extent, and the cells changed since (global indices).
+  OccupancyGrid rendered_;
+  OccupancyMapper::Extent rendered_extent_;
+  std::optional<CellBox> changed_;
+  std::vector<int32_t> sum_scratch_;  // Render()'s, kept to spare the allocations
+  std::vector<uint8_t> observed_scratch_;
 };
 
 }  // namespace aslam

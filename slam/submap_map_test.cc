@@ -106,6 +106,44 @@ TEST(SubmapMapTest, RerenderedSubmapsEqualAFreshMapWithTheScansMoved) {
   ExpectSameMap(map.Render(), fresh.Render());
 }
 
+// Render() redraws only the cells changed since its last call. Rendered after every step of
+// inserts (some far off, so the map grows) and re-renders of moved submaps, it matches a map
+// built from scratch at the same poses and rendered once.
+TEST(SubmapMapTest, RenderingOnlyChangedCellsMatchesAWholeRender) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<LidarScan> scans;
+  std::vector<Pose2d> poses;
+  for (int s = 0; s < 10; ++s) {
+    scans.push_back(RandomScan(rng, 181));
+    poses.push_back({3.0 * unit(rng) + (s == 6 ? 12.0 : 0.0), 2.0 * unit(rng), 6.0 * unit(rng)});
+  }
+  SubmapMap map(FineOptions(3));
+  std::vector<std::vector<int>> members;
+  auto from_scratch = [&](int num_scans) {
+    SubmapMap fresh(FineOptions(3));
+    for (int s = 0; s < num_scans; ++s) fresh.InsertScan(poses[s], scans[s]);
+    return fresh.Render();
+  };
+  for (int s = 0; s < 10; ++s) {
+    const int submap = map.InsertScan(poses[s], scans[s]);
+    if (submap >= static_cast<int>(members.size())) members.resize(submap + 1);
+    members[submap].push_back(s);
+    ExpectSameMap(map.Render(), from_scratch(s + 1));
+    if (s == 4 || s == 8) {
+      const int moved = s == 4 ? 0 : 2;  // a closed submap, then the open one
+      std::vector<SubmapMap::PosedScan> rerender;
+      for (const int m : members[moved]) {
+        poses[m] = poses[m].Compose({0.13, 0.05, -0.04});
+        rerender.push_back({poses[m], &scans[m]});
+      }
+      map.RerenderSubmap(moved, rerender);
+      ExpectSameMap(map.Render(), from_scratch(s + 1));
+    }
+  }
+  ASSERT_EQ(map.num_submaps(), 4);
+}
+
 // Taking a submap out of the sum and putting it back is exact: re-rendering unmoved
 // submaps any number of times changes no cell.
 TEST(SubmapMapTest, RerenderingUnmovedSubmapsKeepsTheMap) {
