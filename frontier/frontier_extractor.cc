@@ -99,6 +99,28 @@ std::vector<std::vector<CellIndex>> SplitCluster(const std::vector<CellIndex>& c
   return segments;
 }
 
+// FNV-1a over the cells' indices: a cluster's key in FrontierScratch::split_before.
+uint64_t HashCells(const std::vector<CellIndex>& cells) {
+  uint64_t hash = 1469598103934665603ull;
+  for (const CellIndex& cell : cells) {
+    for (const int v : {cell.col, cell.row}) {
+      hash = (hash ^ static_cast<uint32_t>(v)) * 1099511628211ull;
+    }
+  }
+  return hash;
+}
+
+// The segments `cells` were cut into last time, if it was a cluster then too.
+const std::vector<std::vector<CellIndex>>* SplitBefore(
+    const FrontierScratch::ClustersByHash& before, uint64_t hash,
+    const std::vector<CellIndex>& cells) {
+  const auto [first, last] = before.equal_range(hash);
+  for (auto it = first; it != last; ++it) {
+    if (it->second.cells == cells) return &it->second.segments;
+  }
+  return nullptr;
+}
+
 // True when every cell on the Bresenham line a..b (both included) is known free.
 bool ClearLine(const OccupancyGrid& map, CellIndex a, CellIndex b, int free_threshold) {
   return VisitLine(a, b, [&](CellIndex cell) { return IsKnownFree(map.at(cell), free_threshold); });
@@ -230,6 +252,14 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   FrontierScratch& m = scratch ? *scratch : local_scratch;
   s = FrontierExtractionStats{};
   std::vector<Frontier> frontiers;
+  // Last extraction's split clusters serve only for the same cell size and segment length.
+  m.split_now.clear();
+  if (map.empty() || m.split_resolution_m != map.resolution_m() ||
+      m.split_max_segment_length_m != options.max_segment_length_m) {
+    m.split_before.clear();
+  }
+  m.split_resolution_m = map.resolution_m();
+  m.split_max_segment_length_m = options.max_segment_length_m;
   if (map.empty()) return frontiers;
 
   const int width = map.width_cells();
@@ -253,7 +283,10 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
              cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::bitwise_and(m.free, m.near_unknown, m.frontier);
   s.frontier_cells = cv::countNonZero(m.frontier);
-  if (s.frontier_cells == 0) return frontiers;
+  if (s.frontier_cells == 0) {
+    m.split_before.clear();
+    return frontiers;
+  }
 
   // Step 2: 8-connected clusters, each flood-filled from its first cell in
   // raster order, clearing its cells from the mask as it goes.
@@ -294,11 +327,20 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
       std::sort(cluster.begin(), cluster.end(), [](const CellIndex& a, const CellIndex& b) {
         return a.row != b.row ? a.row < b.row : a.col < b.col;
       });
-      clusters.emplace_back(
-          first_block, SplitCluster(cluster, low, high.col - low.col + 1, high.row - low.row + 1,
-                                    resolution_m, options.max_segment_length_m));
+      const uint64_t hash = HashCells(cluster);
+      FrontierScratch::ClusterSegments split{cluster, {}};
+      if (const auto* before = SplitBefore(m.split_before, hash, cluster)) {
+        split.segments = *before;
+      } else {
+        ++s.clusters_split;
+        split.segments = SplitCluster(cluster, low, high.col - low.col + 1, high.row - low.row + 1,
+                                      resolution_m, options.max_segment_length_m);
+      }
+      clusters.emplace_back(first_block, split.segments);
+      m.split_now.emplace(hash, std::move(split));
     }
   }
+  std::swap(m.split_before, m.split_now);
   // Clusters in the order of their first 2 x 2 block (blocks in raster order); no two
   // clusters share a block, as a block's cells are all 8-neighbours.
   std::sort(clusters.begin(), clusters.end(),

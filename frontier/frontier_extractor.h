@@ -41,6 +41,7 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <unordered_map>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -96,6 +97,16 @@ class ReachableCells {
 struct FrontierScratch {
   cv::Mat unknown, free, near_unknown, frontier;
   std::vector<CellIndex> cluster;
+  // Step 3's result per kept cluster (cells in raster order), by a hash of its cells: from
+  // the last extraction (reused when a cluster's cells are the same) and from this one.
+  struct ClusterSegments {
+    std::vector<CellIndex> cells;
+    std::vector<std::vector<CellIndex>> segments;
+  };
+  using ClustersByHash = std::unordered_multimap<uint64_t, ClusterSegments>;
+  ClustersByHash split_before, split_now;
+  double split_resolution_m = 0.0;  // what split_before was split with
+  double split_max_segment_length_m = 0.0;
   Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
 };
@@ -105,8 +116,9 @@ struct FrontierExtractionStats {
   int frontier_cells = 0;
   int clusters = 0;  // before the size filter
   int clusters_too_small = 0;
-  int segments = 0;                  // from the clusters kept
-  int segments_unreachable = 0;      // dropped: no reachable target
+  int clusters_split = 0;        // kept clusters cut into segments afresh (the rest: as last time)
+  int segments = 0;              // from the clusters kept
+  int segments_unreachable = 0;  // dropped: no reachable target
   bool used_planner_search = false;  // robot cell not traversable: reachability by GlobalPlanner
 };
 

@@ -488,6 +488,45 @@ TEST(ReachableCells, AgreesWithAGlobalPlannerSearchOnCampus) {
   }
 }
 
+// Clusters whose cells did not change keep last extraction's segments; what comes out is
+// what a fresh extraction gives, map after map (grown, unchanged, changed in one place).
+TEST(FindFrontiers, ReusedScratchSplitsOnlyChangedClustersAndGivesTheSameFrontiers) {
+  const Point2d robot{Campus().start.x_m, Campus().start.y_m};
+  OccupancyGrid changed = PartlyExplored(600);
+  // A 1 m square of the unknown next to known free space becomes free: one cluster changes.
+  bool done = false;
+  for (int row = 20; row + 20 < changed.height_cells() && !done; ++row) {
+    for (int col = 20; col + 20 < changed.width_cells() && !done; ++col) {
+      if (changed.at({col, row}) == kF && changed.at({col + 1, row}) == kU) {
+        Fill(&changed, col + 1, row - 10, col + 20, row + 10, kF);
+        done = true;
+      }
+    }
+  }
+  ASSERT_TRUE(done);
+  FrontierScratch scratch;
+  std::vector<int> split;
+  int kept_clusters = 0;
+  for (const OccupancyGrid& map :
+       {PartlyExplored(200), PartlyExplored(600), PartlyExplored(600), changed}) {
+    FrontierExtractionStats reused_stats, fresh_stats;
+    const std::vector<Frontier> reused = FindFrontiers(map, robot, {}, &reused_stats, &scratch);
+    const std::vector<Frontier> fresh = FindFrontiers(map, robot, {}, &fresh_stats);
+    ASSERT_EQ(reused.size(), fresh.size());
+    for (std::size_t i = 0; i < fresh.size(); ++i) {
+      EXPECT_EQ(reused[i].cells, fresh[i].cells) << "frontier " << i;
+      EXPECT_EQ(reused[i].target_m.x_m, fresh[i].target_m.x_m) << "frontier " << i;
+      EXPECT_EQ(reused[i].target_m.y_m, fresh[i].target_m.y_m) << "frontier " << i;
+    }
+    EXPECT_EQ(fresh_stats.clusters_split, fresh_stats.clusters - fresh_stats.clusters_too_small);
+    split.push_back(reused_stats.clusters_split);
+    kept_clusters = fresh_stats.clusters - fresh_stats.clusters_too_small;
+  }
+  EXPECT_EQ(split[2], 0);                  // the same map again: nothing split
+  EXPECT_GT(split[3], 0);                  // the change split again...
+  EXPECT_LT(split[3], kept_clusters / 2);  // ...where it is, not everywhere
+}
+
 TEST(FindFrontiers, CampusSizedMapTargetsReachableAndTiming) {
   const Point2d robot{Campus().start.x_m, Campus().start.y_m};
   for (const int steps : {200, 600, 1000}) {
