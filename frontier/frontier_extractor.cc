@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
-#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <queue>
 #include <sstream>
@@ -211,11 +211,11 @@ void ReachableCells::Compute(const Costmap& costmap, CellIndex start,
     for (const int row : {seed.row - 1, seed.row + 1}) {
       if (row < 0 || row >= height) continue;
       const std::size_t other = static_cast<std::size_t>(row) * width;
+      // One seed per run of open cells: seed a run's first cell, then skip the run.
       for (int col = left; col <= right; ++col) {
-        // One seed per run of open cells.
-        if (open(other + col) && (col == left || !open(other + col - 1))) {
-          seeds.push_back({col, row});
-        }
+        if (!open(other + col)) continue;
+        seeds.push_back({col, row});
+        while (col + 1 <= right && open(other + col + 1)) ++col;
       }
     }
   }
@@ -266,23 +266,53 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   const int height = map.height_cells();
   const double resolution_m = map.resolution_m();
 
-  // Step 1: known-free cells with an unknown 8-neighbour (dilating the unknown mask).
-  m.unknown.create(height, width, CV_8U);
-  m.free.create(height, width, CV_8U);
+  // Step 1: known-free cells with an unknown 8-neighbour (off the map is not unknown), in
+  // raster order. Byte loops without branches (the compiler vectorizes them): per row, the
+  // unknown mask dilated along the row; a cell's 3 x 3 is that of the rows above, at, below.
+  m.frontier.create(height, width, CV_8U);
+  std::vector<CellIndex>& frontier_cells = m.frontier_cells;
+  frontier_cells.clear();
   const std::vector<int8_t>& values = map.cells();
+  std::vector<uint8_t>& padded = m.unknown_padded;  // one row's unknown mask, 0 either side
+  padded.assign(static_cast<std::size_t>(width) + 2, 0);
+  std::vector<uint8_t>& near = m.near_unknown_rows;  // rows -1 (zeros), 0..height-1, height
+  near.assign(static_cast<std::size_t>(width) * (height + 2), 0);
+  // __restrict: byte pointers may alias anything, and a possible alias stops vectorizing.
+  uint8_t* __restrict unknown = padded.data() + 1;
   for (int row = 0; row < height; ++row) {
-    const int8_t* in = values.data() + static_cast<std::size_t>(row) * width;
-    uint8_t* u = m.unknown.ptr<uint8_t>(row);
-    uint8_t* f = m.free.ptr<uint8_t>(row);
+    const int8_t* __restrict line = values.data() + static_cast<std::size_t>(row) * width;
+    for (int col = 0; col < width; ++col) unknown[col] = line[col] == OccupancyGrid::kUnknown;
+    uint8_t* __restrict dilated = near.data() + static_cast<std::size_t>(row + 1) * width;
     for (int col = 0; col < width; ++col) {
-      u[col] = in[col] == OccupancyGrid::kUnknown ? 1 : 0;
-      f[col] = IsKnownFree(in[col], options.free_threshold) ? 1 : 0;
+      dilated[col] = unknown[col - 1] | unknown[col] | unknown[col + 1];
     }
   }
-  cv::dilate(m.unknown, m.near_unknown, cv::Mat::ones(3, 3, CV_8U), cv::Point(-1, -1), 1,
-             cv::BORDER_CONSTANT, cv::Scalar(0));
-  cv::bitwise_and(m.free, m.near_unknown, m.frontier);
-  s.frontier_cells = cv::countNonZero(m.frontier);
+  const int8_t free_threshold = static_cast<int8_t>(options.free_threshold);
+  for (int row = 0; row < height; ++row) {
+    const int8_t* __restrict line = values.data() + static_cast<std::size_t>(row) * width;
+    const uint8_t* __restrict above = near.data() + static_cast<std::size_t>(row) * width;
+    const uint8_t* __restrict at = above + width;
+    const uint8_t* __restrict below = at + width;
+    uint8_t* __restrict out = m.frontier.ptr<uint8_t>(row);
+    for (int col = 0; col < width; ++col) {
+      const uint8_t known_free = (line[col] >= 0) & (line[col] <= free_threshold);
+      out[col] = known_free & (above[col] | at[col] | below[col]);
+    }
+    // Most rows hold few frontier cells: skip 8 zero bytes at a time.
+    int col = 0;
+    for (; col + 8 <= width; col += 8) {
+      uint64_t eight;
+      std::memcpy(&eight, out + col, sizeof(eight));
+      if (eight == 0) continue;
+      for (int c = col; c < col + 8; ++c) {
+        if (out[c]) frontier_cells.push_back({c, row});
+      }
+    }
+    for (; col < width; ++col) {
+      if (out[col]) frontier_cells.push_back({col, row});
+    }
+  }
+  s.frontier_cells = static_cast<int>(frontier_cells.size());
   if (s.frontier_cells == 0) {
     m.split_before.clear();
     return frontiers;
@@ -295,50 +325,48 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   // Segments of each kept cluster, with the cluster's first 2 x 2 block (see the header).
   std::vector<std::pair<std::pair<int, int>, std::vector<std::vector<CellIndex>>>> clusters;
   std::vector<CellIndex>& cluster = m.cluster;
-  for (int seed_row = 0; seed_row < height; ++seed_row) {
-    const uint8_t* seed_line = m.frontier.ptr<uint8_t>(seed_row);
-    for (int seed_col = 0; seed_col < width; ++seed_col) {
-      if (!seed_line[seed_col]) continue;
-      ++s.clusters;
-      cluster.clear();
-      cluster.push_back({seed_col, seed_row});
-      m.frontier.at<uint8_t>(seed_row, seed_col) = 0;
-      CellIndex low = cluster.front(), high = cluster.front();  // bounding box corners
-      std::pair<int, int> first_block{seed_row / 2, seed_col / 2};
-      for (std::size_t head = 0; head < cluster.size(); ++head) {
-        const CellIndex u = cluster[head];
-        for (int row = std::max(0, u.row - 1); row <= std::min(height - 1, u.row + 1); ++row) {
-          uint8_t* line = m.frontier.ptr<uint8_t>(row);
-          for (int col = std::max(0, u.col - 1); col <= std::min(width - 1, u.col + 1); ++col) {
-            if (!line[col]) continue;
-            line[col] = 0;
-            cluster.push_back({col, row});
-            low = {std::min(low.col, col), std::min(low.row, row)};
-            high = {std::max(high.col, col), std::max(high.row, row)};
-            first_block = std::min(first_block, std::make_pair(row / 2, col / 2));
-          }
+  for (const CellIndex& seed : frontier_cells) {
+    const int seed_col = seed.col, seed_row = seed.row;
+    if (!m.frontier.at<uint8_t>(seed_row, seed_col)) continue;  // in an earlier cluster
+    ++s.clusters;
+    cluster.clear();
+    cluster.push_back({seed_col, seed_row});
+    m.frontier.at<uint8_t>(seed_row, seed_col) = 0;
+    CellIndex low = cluster.front(), high = cluster.front();  // bounding box corners
+    std::pair<int, int> first_block{seed_row / 2, seed_col / 2};
+    for (std::size_t head = 0; head < cluster.size(); ++head) {
+      const CellIndex u = cluster[head];
+      for (int row = std::max(0, u.row - 1); row <= std::min(height - 1, u.row + 1); ++row) {
+        uint8_t* line = m.frontier.ptr<uint8_t>(row);
+        for (int col = std::max(0, u.col - 1); col <= std::min(width - 1, u.col + 1); ++col) {
+          if (!line[col]) continue;
+          line[col] = 0;
+          cluster.push_back({col, row});
+          low = {std::min(low.col, col), std::min(low.row, row)};
+          high = {std::max(high.col, col), std::max(high.row, row)};
+          first_block = std::min(first_block, std::make_pair(row / 2, col / 2));
         }
       }
-      if (static_cast<int>(cluster.size()) < min_cells) {
-        ++s.clusters_too_small;
-        continue;
-      }
-      // Step 3: segments of bounded length, from the cluster's cells in raster order.
-      std::sort(cluster.begin(), cluster.end(), [](const CellIndex& a, const CellIndex& b) {
-        return a.row != b.row ? a.row < b.row : a.col < b.col;
-      });
-      const uint64_t hash = HashCells(cluster);
-      FrontierScratch::ClusterSegments split{cluster, {}};
-      if (const auto* before = SplitBefore(m.split_before, hash, cluster)) {
-        split.segments = *before;
-      } else {
-        ++s.clusters_split;
-        split.segments = SplitCluster(cluster, low, high.col - low.col + 1, high.row - low.row + 1,
-                                      resolution_m, options.max_segment_length_m);
-      }
-      clusters.emplace_back(first_block, split.segments);
-      m.split_now.emplace(hash, std::move(split));
     }
+    if (static_cast<int>(cluster.size()) < min_cells) {
+      ++s.clusters_too_small;
+      continue;
+    }
+    // Step 3: segments of bounded length, from the cluster's cells in raster order.
+    std::sort(cluster.begin(), cluster.end(), [](const CellIndex& a, const CellIndex& b) {
+      return a.row != b.row ? a.row < b.row : a.col < b.col;
+    });
+    const uint64_t hash = HashCells(cluster);
+    FrontierScratch::ClusterSegments split{cluster, {}};
+    if (const auto* before = SplitBefore(m.split_before, hash, cluster)) {
+      split.segments = *before;
+    } else {
+      ++s.clusters_split;
+      split.segments = SplitCluster(cluster, low, high.col - low.col + 1, high.row - low.row + 1,
+                                    resolution_m, options.max_segment_length_m);
+    }
+    clusters.emplace_back(first_block, split.segments);
+    m.split_now.emplace(hash, std::move(split));
   }
   std::swap(m.split_before, m.split_now);
   // Clusters in the order of their first 2 x 2 block (blocks in raster order); no two

@@ -95,7 +95,9 @@ class ReachableCells {
 
 // Buffers kept between extractions, so that maps of one size allocate nothing new.
 struct FrontierScratch {
-  cv::Mat unknown, free, near_unknown, frontier;
+  cv::Mat frontier;                       // step 1's mask, cleared cluster by cluster
+  std::vector<CellIndex> frontier_cells;  // step 1's cells in raster order
+  std::vector<uint8_t> unknown_padded, near_unknown_rows;  // step 1's working rows
   std::vector<CellIndex> cluster;
   // Step 3's result per kept cluster (cells in raster order), by a hash of its cells: from
   // the last extraction (reused when a cluster's cells are the same) and from this one.
