@@ -16,7 +16,7 @@
 namespace aslam {
 
 struct LocalObstaclesOptions {
-  double window_m = 8.0;  // side of the square window centred on the robot
+  double window_m = 4.5;  // side of the square window centred on the robot
   double resolution_m = 0.05;
   int occupied_threshold = 65;  // map cells >= this are obstacles
 

@@ -129,7 +129,8 @@ TEST(LocalObstaclesTest, UnknownCellsAreNotObstacles) {
 
 TEST(LocalObstaclesTest, OutsideTheWindowIsBlocked) {
   const Pose2d robot{1.0, 2.0, 0.0};
-  LocalObstaclesOptions options;  // 8 m window
+  LocalObstaclesOptions options;
+  options.window_m = 8.0;
   const LocalObstacles obstacles(OccupancyGrid(), {}, robot, options);
   EXPECT_GT(obstacles.ClearanceM({robot.x_m + 3.8, robot.y_m}), 1.0);
   EXPECT_GT(obstacles.ClearanceM({robot.x_m - 3.8, robot.y_m - 3.8}), 1.0);
