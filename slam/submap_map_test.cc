@@ -24,6 +24,22 @@ LidarScan RandomScan(std::mt19937& rng, int beams) {
   return scan;
 }
 
+// `count` random scans at random poses in [0, 3] x [0, 2] m, any heading.
+struct PosedScans {
+  std::vector<LidarScan> scans;
+  std::vector<Pose2d> poses;
+};
+PosedScans RandomPosedScans(unsigned seed, int count, int beams) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  PosedScans out;
+  for (int s = 0; s < count; ++s) {
+    out.scans.push_back(RandomScan(rng, beams));
+    out.poses.push_back({3.0 * unit(rng), 2.0 * unit(rng), 6.0 * unit(rng)});
+  }
+  return out;
+}
+
 // Thresholds that render every log-odds value apart, so any difference in a sum shows.
 OccupancyMapperOptions FineOptions(int submap_keyframes) {
   OccupancyMapperOptions options;
@@ -85,14 +101,9 @@ TEST(SubmapMapTest, SubmapsAreClampedGridsAndTheMapIsTheirSum) {
 // Moving the scans of a closed submap and of the open one, then re-rendering those two
 // submaps, leaves the map a fresh insertion at the new poses would give, cell for cell.
 TEST(SubmapMapTest, RerenderedSubmapsEqualAFreshMapWithTheScansMoved) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<LidarScan> scans;
-  std::vector<Pose2d> poses;
-  for (int s = 0; s < 8; ++s) {
-    scans.push_back(RandomScan(rng, 361));
-    poses.push_back({3.0 * unit(rng), 2.0 * unit(rng), 6.0 * unit(rng)});
-  }
+  PosedScans posed = RandomPosedScans(11, 8, 361);
+  const std::vector<LidarScan>& scans = posed.scans;
+  std::vector<Pose2d>& poses = posed.poses;
   SubmapMap map(FineOptions(3));  // submaps {0, 1, 2}, {3, 4, 5}, {6, 7} (open)
   for (std::size_t s = 0; s < scans.size(); ++s) map.InsertScan(poses[s], scans[s]);
   ASSERT_EQ(map.num_submaps(), 3);
@@ -110,14 +121,10 @@ TEST(SubmapMapTest, RerenderedSubmapsEqualAFreshMapWithTheScansMoved) {
 // inserts (some far off, so the map grows) and re-renders of moved submaps, it matches a map
 // built from scratch at the same poses and rendered once.
 TEST(SubmapMapTest, RenderingOnlyChangedCellsMatchesAWholeRender) {
-  std::mt19937 rng(23);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<LidarScan> scans;
-  std::vector<Pose2d> poses;
-  for (int s = 0; s < 10; ++s) {
-    scans.push_back(RandomScan(rng, 181));
-    poses.push_back({3.0 * unit(rng) + (s == 6 ? 12.0 : 0.0), 2.0 * unit(rng), 6.0 * unit(rng)});
-  }
+  PosedScans posed = RandomPosedScans(23, 10, 181);
+  const std::vector<LidarScan>& scans = posed.scans;
+  std::vector<Pose2d>& poses = posed.poses;
+  poses[6].x_m += 12.0;  // far off: the map grows
   SubmapMap map(FineOptions(3));
   std::vector<std::vector<int>> members;
   auto from_scratch = [&](int num_scans) {
