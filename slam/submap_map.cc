@@ -42,11 +42,11 @@ bool SubmapMap::empty() const {
 
 int SubmapMap::InsertScan(const Pose2d& base_in_map, const LidarScan& scan) {
   if (submaps_.empty() || scans_in_open_submap_ >= options_.submap_keyframes) {
+    // Closing a submap moves its log-odds into the sum: no cell's total changes.
     if (!submaps_.empty()) Fuse(submaps_.back(), +1);
     submaps_.emplace_back(options_);
     scans_in_open_submap_ = 0;
   }
-  // Closing a submap moves its log-odds into the sum: no cell's total changes.
   if (const std::optional<CellBox> box = submaps_.back().InsertScan(base_in_map, scan)) {
     MarkChanged(*box);
   }
