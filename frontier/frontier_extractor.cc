@@ -276,7 +276,10 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   std::vector<uint8_t>& padded = m.unknown_padded;  // one row's unknown mask, 0 either side
   padded.assign(static_cast<std::size_t>(width) + 2, 0);
   std::vector<uint8_t>& near = m.near_unknown_rows;  // rows -1 (zeros), 0..height-1, height
-  near.assign(static_cast<std::size_t>(width) * (height + 2), 0);
+  near.resize(static_cast<std::size_t>(width) * (height + 2));
+  // Only the two border rows need zeros: the loop below writes every other row.
+  std::fill_n(near.begin(), width, 0);
+  std::fill_n(near.end() - width, width, 0);
   // __restrict: byte pointers may alias anything, and a possible alias stops vectorizing.
   uint8_t* __restrict unknown = padded.data() + 1;
   for (int row = 0; row < height; ++row) {
