@@ -182,49 +182,79 @@ void ReachableCells::Compute(const Costmap& costmap, CellIndex start,
                              const GlobalPlannerOptions& options) {
   costmap_ = &costmap;
   use_tree_ = false;
-  reachable_.assign(costmap.costs().size(), 0);
+  const int width = costmap.width_cells();
+  const int height = costmap.height_cells();
+  runs_.clear();
+  row_first_run_.assign(static_cast<std::size_t>(height) + 1, 0);
   if (!costmap.Contains(start)) return;  // nothing is reachable from off the map
   if (!costmap.Traversable(start)) {
     GlobalPlanner(options).Search(costmap, start, {}, &tree_);
     use_tree_ = true;
     return;
   }
-  // Scanline flood fill of the start's 4-connected traversable component: each
-  // seed grows into its whole row run, then seeds the runs it touches above and below.
-  const int width = costmap.width_cells();
-  const int height = costmap.height_cells();
+  // Each row's maximal runs of traversable cells.
   const uint8_t* costs = costmap.costs().data();
-  uint8_t* reached = reachable_.data();
-  auto open = [&](std::size_t i) { return !reached[i] && costs[i] < Costmap::kInscribed; };
-  std::vector<CellIndex>& seeds = seeds_;
-  seeds.clear();
-  seeds.push_back(start);
-  while (!seeds.empty()) {
-    const CellIndex seed = seeds.back();
-    seeds.pop_back();
-    const std::size_t row_start = static_cast<std::size_t>(seed.row) * width;
-    if (!open(row_start + seed.col)) continue;
-    int left = seed.col, right = seed.col;
-    while (left > 0 && open(row_start + left - 1)) --left;
-    while (right + 1 < width && open(row_start + right + 1)) ++right;
-    std::fill(reached + row_start + left, reached + row_start + right + 1, 1);
-    for (const int row : {seed.row - 1, seed.row + 1}) {
-      if (row < 0 || row >= height) continue;
-      const std::size_t other = static_cast<std::size_t>(row) * width;
-      // One seed per run of open cells: seed a run's first cell, then skip the run.
-      for (int col = left; col <= right; ++col) {
-        if (!open(other + col)) continue;
-        seeds.push_back({col, row});
-        while (col + 1 <= right && open(other + col + 1)) ++col;
+  for (int row = 0; row < height; ++row) {
+    const uint8_t* line = costs + static_cast<std::size_t>(row) * width;
+    int col = 0;
+    while (col < width) {
+      while (col < width && line[col] >= Costmap::kInscribed) ++col;
+      if (col == width) break;
+      const int begin = col;
+      while (col < width && line[col] < Costmap::kInscribed) ++col;
+      runs_.push_back({begin, col});
+    }
+    row_first_run_[row + 1] = static_cast<int>(runs_.size());
+  }
+  // 4-connected components: runs of adjacent rows that share a column are joined.
+  run_parent_.resize(runs_.size());
+  for (std::size_t i = 0; i < runs_.size(); ++i) run_parent_[i] = static_cast<int>(i);
+  auto find = [this](int run) {
+    while (run_parent_[run] != run) {
+      run_parent_[run] = run_parent_[run_parent_[run]];  // path halving
+      run = run_parent_[run];
+    }
+    return run;
+  };
+  for (int row = 1; row < height; ++row) {
+    int above = row_first_run_[row - 1];
+    int here = row_first_run_[row];
+    const int above_end = row_first_run_[row];
+    const int here_end = row_first_run_[row + 1];
+    while (above < above_end && here < here_end) {
+      const Run& a = runs_[above];
+      const Run& b = runs_[here];
+      if (a.col_begin < b.col_end && b.col_begin < a.col_end) {
+        const int root_a = find(above), root_b = find(here);
+        if (root_a != root_b) run_parent_[std::max(root_a, root_b)] = std::min(root_a, root_b);
+      }
+      if (a.col_end < b.col_end) {
+        ++above;
+      } else {
+        ++here;
       }
     }
+  }
+  const int start_root = find(static_cast<int>(
+      std::upper_bound(runs_.begin() + row_first_run_[start.row],
+                       runs_.begin() + row_first_run_[start.row + 1], start.col,
+                       [](int col, const Run& run) { return col < run.col_begin; }) -
+      runs_.begin() - 1));
+  run_reachable_.resize(runs_.size());
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    run_reachable_[i] = find(static_cast<int>(i)) == start_root;
   }
 }
 
 bool ReachableCells::Reachable(CellIndex cell) const {
   if (costmap_ == nullptr || !costmap_->Traversable(cell)) return false;
   if (use_tree_) return tree_.Reachable(cell);
-  return reachable_[costmap_->LinearIndex(cell)] != 0;
+  // A traversable cell lies in its row's last run that starts at or before it.
+  const auto first = runs_.begin() + row_first_run_[cell.row];
+  const auto last = runs_.begin() + row_first_run_[cell.row + 1];
+  const auto after = std::upper_bound(first, last, cell.col,
+                                      [](int col, const Run& run) { return col < run.col_begin; });
+  return after != first && run_reachable_[after - runs_.begin() - 1] != 0;
 }
 
 void FrontierOptions::Validate() const {
