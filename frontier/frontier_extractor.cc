@@ -126,19 +126,32 @@ bool ClearLine(const OccupancyGrid& map, CellIndex a, CellIndex b, int free_thre
   return VisitLine(a, b, [&](CellIndex cell) { return IsKnownFree(map.at(cell), free_threshold); });
 }
 
+// Offsets (col, row) of the square -reach..reach, nearest the centre first (by squared length).
+std::vector<CellIndex> OffsetsNearestFirst(int reach) {
+  std::vector<CellIndex> offsets;
+  for (int row = -reach; row <= reach; ++row) {
+    for (int col = -reach; col <= reach; ++col) offsets.push_back({col, row});
+  }
+  auto length2 = [](const CellIndex& o) { return o.col * o.col + o.row * o.row; };
+  std::stable_sort(offsets.begin(), offsets.end(),
+                   [&](const CellIndex& a, const CellIndex& b) { return length2(a) < length2(b); });
+  return offsets;
+}
+
 // The reachable cell nearest the centroid among the segment's cells and the
 // known-free cells within radius of the centroid that see the segment's cell
 // nearest the centroid over known free space (so a target is never across a
-// wall from its frontier); nullopt when there is none.
+// wall from its frontier); nullopt when there is none. Of equally near cells the
+// segment's first wins, then the first in raster order.
 std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCells& reachability,
                                     const std::vector<CellIndex>& segment, Point2d centroid_m,
-                                    const FrontierOptions& options) {
+                                    const FrontierOptions& options,
+                                    std::vector<CellIndex>* offsets_nearest_first) {
   auto distance2 = [&](CellIndex cell) {
     const Point2d p = map.CellCenter(cell);
     return (p.x_m - centroid_m.x_m) * (p.x_m - centroid_m.x_m) +
            (p.y_m - centroid_m.y_m) * (p.y_m - centroid_m.y_m);
   };
-  // Strict comparisons: the first of equally near cells wins (deterministic).
   CellIndex anchor = segment.front();
   double anchor_d2 = distance2(anchor);
   std::optional<CellIndex> best;
@@ -155,23 +168,43 @@ std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCel
     }
   }
 
+  // The window around the centroid's cell, nearest first: a cell at offset o lies at least
+  // |o| * resolution - |centre - centroid| from the centroid, so the scan stops once that
+  // bound passes the best distance found (or the radius).
   const double radius_m = options.target_radius_m;
+  const double resolution_m = map.resolution_m();
   const CellIndex centre = map.WorldToCell(centroid_m);
-  const int reach = static_cast<int>(std::ceil(radius_m / map.resolution_m())) + 1;
-  for (int row = std::max(0, centre.row - reach);
-       row <= std::min(map.height_cells() - 1, centre.row + reach); ++row) {
-    for (int col = std::max(0, centre.col - reach);
-         col <= std::min(map.width_cells() - 1, centre.col + reach); ++col) {
-      const CellIndex cell{col, row};
-      const double d2 = distance2(cell);
-      if (d2 >= best_d2 || std::sqrt(d2) > radius_m) continue;
-      if (!IsKnownFree(map.at(cell), options.free_threshold) || !reachability.Reachable(cell) ||
-          !ClearLine(map, cell, anchor, options.free_threshold)) {
-        continue;
-      }
-      best = cell;
-      best_d2 = d2;
+  const int reach = static_cast<int>(std::ceil(radius_m / resolution_m)) + 1;
+  const std::size_t side = 2 * static_cast<std::size_t>(reach) + 1;
+  if (offsets_nearest_first->size() != side * side) {
+    *offsets_nearest_first = OffsetsNearestFirst(reach);
+  }
+  const Point2d centre_m = map.CellCenter(centre);
+  const double centre_offset_m =
+      std::hypot(centre_m.x_m - centroid_m.x_m, centre_m.y_m - centroid_m.y_m) + 1e-9;
+  bool best_in_window = false;
+  for (const CellIndex& offset : *offsets_nearest_first) {
+    const double lower_bound_m =
+        std::sqrt(static_cast<double>(offset.col * offset.col + offset.row * offset.row)) *
+            resolution_m -
+        centre_offset_m;
+    if (lower_bound_m > radius_m ||
+        (lower_bound_m > 0.0 && lower_bound_m * lower_bound_m > best_d2)) {
+      break;
     }
+    const CellIndex cell{centre.col + offset.col, centre.row + offset.row};
+    if (!map.Contains(cell)) continue;
+    const double d2 = distance2(cell);
+    const bool earlier_tie = d2 == best_d2 && best_in_window &&
+                             std::tie(cell.row, cell.col) < std::tie(best->row, best->col);
+    if (!(d2 < best_d2 || earlier_tie) || std::sqrt(d2) > radius_m) continue;
+    if (!IsKnownFree(map.at(cell), options.free_threshold) || !reachability.Reachable(cell) ||
+        !ClearLine(map, cell, anchor, options.free_threshold)) {
+      continue;
+    }
+    best = cell;
+    best_d2 = d2;
+    best_in_window = true;
   }
   return best;
 }
@@ -432,7 +465,7 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
     const double n = static_cast<double>(segment.size());
     frontier.centroid_m = {sum_x / n, sum_y / n};
     const std::optional<CellIndex> target =
-        FindTarget(map, reachability, segment, frontier.centroid_m, options);
+        FindTarget(map, reachability, segment, frontier.centroid_m, options, &m.target_offsets);
     if (!target) {
       ++s.segments_unreachable;
       continue;

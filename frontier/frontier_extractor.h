@@ -118,6 +118,7 @@ struct FrontierScratch {
   double split_max_segment_length_m = 0.0;
   Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
+  std::vector<CellIndex> target_offsets;  // step 4's search window, nearest offsets first
 };
 
 // What the last extraction found and dropped.

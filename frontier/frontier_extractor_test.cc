@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -525,6 +526,83 @@ TEST(FindFrontiers, ReusedScratchSplitsOnlyChangedClustersAndGivesTheSameFrontie
   EXPECT_EQ(split[2], 0);                  // the same map again: nothing split
   EXPECT_GT(split[3], 0);                  // the change split again...
   EXPECT_LT(split[3], kept_clusters / 2);  // ...where it is, not everywhere
+}
+
+// Step 4 by brute force, as the header states it: the reachable cell nearest the centroid among
+// the segment's cells (the first of equals) and the known-free reachable cells within the
+// radius whose Bresenham line to the segment's cell nearest the centroid is all known free
+// (strictly nearer than the segment's best; of equals, the first in raster order).
+std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const ReachableCells& reachable,
+                                          const Frontier& f, double radius_m) {
+  auto d2 = [&](CellIndex cell) {
+    const Point2d p = map.CellCenter(cell);
+    return std::pow(p.x_m - f.centroid_m.x_m, 2) + std::pow(p.y_m - f.centroid_m.y_m, 2);
+  };
+  auto known_free = [&](CellIndex cell) { return map.at(cell) == kF; };
+  auto clear_line = [&](CellIndex a, CellIndex b) {
+    const int dc = std::abs(b.col - a.col), dr = -std::abs(b.row - a.row);
+    const int sc = a.col < b.col ? 1 : -1, sr = a.row < b.row ? 1 : -1;
+    int error = dc + dr;
+    for (CellIndex c = a;;) {
+      if (!known_free(c)) return false;
+      if (c.col == b.col && c.row == b.row) return true;
+      const int e2 = 2 * error;
+      if (e2 >= dr) error += dr, c.col += sc;
+      if (e2 <= dc) error += dc, c.row += sr;
+    }
+  };
+  CellIndex anchor = f.cells.front();
+  std::optional<CellIndex> best;
+  for (const CellIndex& cell : f.cells) {
+    if (d2(cell) < d2(anchor)) anchor = cell;
+    if (reachable.Reachable(cell) && (!best || d2(cell) < d2(*best))) best = cell;
+  }
+  std::optional<CellIndex> window_best;
+  for (int row = 0; row < map.height_cells(); ++row) {
+    for (int col = 0; col < map.width_cells(); ++col) {
+      const CellIndex cell{col, row};
+      if (std::sqrt(d2(cell)) > radius_m || !known_free(cell) || !reachable.Reachable(cell) ||
+          !clear_line(cell, anchor)) {
+        continue;
+      }
+      if (!window_best || d2(cell) < d2(*window_best)) window_best = cell;
+    }
+  }
+  if (window_best && (!best || d2(*window_best) < d2(*best))) return window_best;
+  return best;
+}
+
+TEST(FindFrontiers, TargetsAreTheNearestValidCellsFoundByBruteForce) {
+  const Point2d robot{Campus().start.x_m, Campus().start.y_m};
+  int checked = 0, off_the_segment = 0;
+  double farthest_target_m = 0.0;
+  // A wide robot keeps targets off the walls, far from their centroids.
+  for (const double robot_radius_m : {CostmapOptions{}.robot_radius_m, 0.45}) {
+    for (const int steps : {150, 400, 900}) {
+      const OccupancyGrid map = PartlyExplored(steps);
+      FrontierOptions options;
+      options.costmap.robot_radius_m = robot_radius_m;
+      const std::vector<Frontier> frontiers = FindFrontiers(map, robot, options);
+      const Costmap costmap(map, options.costmap);
+      const ReachableCells reachable(costmap, map.WorldToCell(robot), options.global_planner);
+      for (const Frontier& f : frontiers) {
+        const std::optional<CellIndex> expected =
+            BruteForceTarget(map, reachable, f, options.target_radius_m);
+        ASSERT_TRUE(expected.has_value()) << "frontier " << f.id;
+        const CellIndex target = map.WorldToCell(f.target_m);
+        EXPECT_EQ(target.col, expected->col) << "steps " << steps << " frontier " << f.id;
+        EXPECT_EQ(target.row, expected->row) << "steps " << steps << " frontier " << f.id;
+        off_the_segment += std::none_of(f.cells.begin(), f.cells.end(), [&](const CellIndex& c) {
+          return c.col == target.col && c.row == target.row;
+        });
+        farthest_target_m = std::max(farthest_target_m, Distance(f.target_m, f.centroid_m));
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 40);
+  EXPECT_GT(off_the_segment, 0);      // the window search decided some targets...
+  EXPECT_GT(farthest_target_m, 0.3);  // ...some of them far from the centroid
 }
 
 TEST(FindFrontiers, CampusSizedMapTargetsReachableAndTiming) {
