@@ -57,6 +57,10 @@ check "no process of the run is left" test -z "$leftovers"
 check "process_stats.json names the slam process" grep -q '"name": "slam"' "$run/process_stats.json"
 check "... and matched scans to commands" grep -Eq '"matched": [1-9]' "$run/process_stats.json"
 
+if ((failures > 0)) && [[ -s "$run/run.lcmlog" ]]; then
+  "$build/tests/print_goal_timeline" "$run/run.lcmlog"
+fi
+
 total=30
 echo "$((total - failures)) passed, $failures failed"
 exit $((failures > 0))
