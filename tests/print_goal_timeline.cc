@@ -84,8 +84,9 @@ int main(int argc, char** argv) {
                   static_cast<long>(m.decision_id), m.robot_pose.x_m, m.robot_pose.y_m, eligible,
                   m.num_scores);
       if (chosen != nullptr) {
-        std::printf("  chose frontier %d at (%.2f, %.2f), path %.2f m, total %.4g", chosen->frontier_id,
-                    chosen->target_x_m, chosen->target_y_m, chosen->path_length_m, chosen->total);
+        std::printf("  chose frontier %d at (%.2f, %.2f), path %.2f m, total %.4g",
+                    chosen->frontier_id, chosen->target_x_m, chosen->target_y_m,
+                    chosen->path_length_m, chosen->total);
       }
       if (runner_up != nullptr) {
         std::printf("  | next frontier %d at (%.2f, %.2f), path %.2f m, total %.4g",
