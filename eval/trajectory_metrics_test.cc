@@ -241,5 +241,25 @@ TEST(CoverageEvaluator, FollowsTheMapAsItChangesAndGrows) {
   EXPECT_EQ(evaluator.Evaluate(shifted).truth_free_known, 32 * 6);
 }
 
+// A truth at half the map's cell size puts 4 truth cells in each map cell; a quarter turn
+// puts them elsewhere. Each truly free cell counts once, known or not.
+TEST(CoverageEvaluator, CountsEveryTruthCellOfAMapCell) {
+  OccupancyGrid truth(40, 20, 0.025, {0.0, 0.0}, OccupancyGrid::kFree);  // 1.0 x 0.5 m
+  CoverageEvaluator evaluator(truth, Pose2d{});
+  OccupancyGrid slam(20, 10, 0.05, {0.0, 0.0}, OccupancyGrid::kUnknown);
+  for (int col = 0; col < 5; ++col) slam.at({col, 0}) = OccupancyGrid::kOccupied;
+  const Coverage some = evaluator.Evaluate(slam);
+  EXPECT_EQ(some.truth_free_cells, 800);
+  EXPECT_EQ(some.truth_free_known, 5 * 4);
+  slam.at({19, 9}) = OccupancyGrid::kFree;
+  EXPECT_EQ(evaluator.Evaluate(slam).truth_free_known, 6 * 4);
+  // The map turned by 90 degrees in the world: a truth cell at (x, y) is at (y, -x) in the map.
+  CoverageEvaluator turned(truth, Pose2d{0.0, 0.0, M_PI / 2});
+  OccupancyGrid upright(10, 20, 0.05, {0.0, -1.0}, OccupancyGrid::kUnknown);
+  for (int row = 0; row < 20; ++row) upright.at({0, row}) = OccupancyGrid::kFree;  // y < 0.05 m
+  EXPECT_EQ(turned.Evaluate(upright).truth_free_known, 40 * 2);
+  EXPECT_EQ(ComputeCoverage(upright, Pose2d{0.0, 0.0, M_PI / 2}, truth).truth_free_known, 40 * 2);
+}
+
 }  // namespace
 }  // namespace aslam
