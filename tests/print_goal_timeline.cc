@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "aslam/explore_goal_t.hpp"
@@ -16,28 +17,11 @@
 #include "aslam/nav_status_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/utility_scores_t.hpp"
+#include "common/channels.h"
+#include "navigation/nav_lcm.h"
+#include "utility/utility_lcm.h"
 
 namespace {
-
-const char* NavStateName(int state) {
-  switch (state) {
-    case aslam::nav_status_t::STATE_IDLE: return "idle";
-    case aslam::nav_status_t::STATE_ACTIVE: return "active";
-    case aslam::nav_status_t::STATE_REACHED: return "reached";
-    case aslam::nav_status_t::STATE_FAILED: return "failed";
-    case aslam::nav_status_t::STATE_UNREACHABLE: return "unreachable";
-    default: return "?";
-  }
-}
-
-const char* ExploreStateName(int state) {
-  switch (state) {
-    case aslam::explore_status_t::STATE_WAITING: return "waiting";
-    case aslam::explore_status_t::STATE_EXPLORING: return "exploring";
-    case aslam::explore_status_t::STATE_DONE: return "done";
-    default: return "?";
-  }
-}
 
 template <typename Message>
 bool Decode(const lcm::LogEvent& event, Message* message) {
@@ -57,15 +41,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   double robot_x = NAN, robot_y = NAN;  // SLAM's latest pose, in "map" like the goals
-  int64_t nav_goal = -2, explore_state = -1;
-  int nav_state = -1;
+  int64_t nav_goal = -2;                // no NAV_STATUS yet
+  std::optional<aslam::NavState> nav_state;
+  std::optional<aslam::ExploreState> explore_state;
   std::printf("goal timeline of %s (t = simulated s; positions in the map frame)\n", argv[1]);
   while (const lcm::LogEvent* event = log.readNextEvent()) {
     const std::string channel = event->channel;
-    if (channel == "SLAM_POSE") {
+    if (channel == aslam::channels::kSlamPose) {
       aslam::pose_t m;
       if (Decode(*event, &m)) robot_x = m.pose.x_m, robot_y = m.pose.y_m;
-    } else if (channel == "UTILITY_SCORES") {
+    } else if (channel == aslam::channels::kUtilityScores) {
       aslam::utility_scores_t m;
       if (!Decode(*event, &m)) continue;
       int eligible = 0;
@@ -94,7 +79,7 @@ int main(int argc, char** argv) {
                     runner_up->path_length_m, runner_up->total);
       }
       std::printf("\n");
-    } else if (channel == "EXPLORE_GOAL") {
+    } else if (channel == aslam::channels::kExploreGoal) {
       aslam::explore_goal_t m;
       if (!Decode(*event, &m)) continue;
       if (m.cancel) {
@@ -103,20 +88,24 @@ int main(int argc, char** argv) {
         std::printf("%8.2f goal %ld to (%.2f, %.2f) for frontier %d\n", m.utime * 1e-6,
                     static_cast<long>(m.goal_id), m.x_m, m.y_m, m.frontier_id);
       }
-    } else if (channel == "NAV_STATUS") {
+    } else if (channel == aslam::channels::kNavStatus) {
       aslam::nav_status_t m;
-      if (!Decode(*event, &m) || (m.goal_id == nav_goal && m.state == nav_state)) continue;
-      nav_goal = m.goal_id;
-      nav_state = m.state;
-      std::printf("%8.2f   nav goal %ld %s  robot (%.2f, %.2f)%s%s\n", m.utime * 1e-6,
-                  static_cast<long>(m.goal_id), NavStateName(m.state), robot_x, robot_y,
-                  m.detail.empty() ? "" : ": ", m.detail.c_str());
-    } else if (channel == "EXPLORE_STATUS") {
+      if (!Decode(*event, &m)) continue;
+      const std::optional<aslam::NavStatus> status = aslam::FromLcm(m);
+      if (!status || (status->goal_id == nav_goal && status->state == nav_state)) continue;
+      nav_goal = status->goal_id;
+      nav_state = status->state;
+      std::printf("%8.2f   nav goal %ld %s  robot (%.2f, %.2f)%s%s\n", status->utime * 1e-6,
+                  static_cast<long>(status->goal_id), aslam::NavStateName(status->state), robot_x,
+                  robot_y, status->detail.empty() ? "" : ": ", status->detail.c_str());
+    } else if (channel == aslam::channels::kExploreStatus) {
       aslam::explore_status_t m;
-      if (!Decode(*event, &m) || m.state == explore_state) continue;
-      explore_state = m.state;
+      if (!Decode(*event, &m)) continue;
+      const std::optional<aslam::ExploreState> state = aslam::ExploreStateFromLcm(m.state);
+      if (!state || state == explore_state) continue;
+      explore_state = state;
       std::printf("%8.2f exploration %s: %d frontiers, %d eligible%s%s\n", m.utime * 1e-6,
-                  ExploreStateName(m.state), m.num_frontiers, m.num_eligible,
+                  aslam::ExploreStateName(*state), m.num_frontiers, m.num_eligible,
                   m.detail.empty() ? "" : ": ", m.detail.c_str());
     }
   }

@@ -50,14 +50,27 @@ explore_goal_t ToLcm(const ExploreGoal& goal) {
   return msg;
 }
 
+int8_t ExploreStateToLcm(ExploreState state) {
+  switch (state) {
+    case ExploreState::kWaiting: return explore_status_t::STATE_WAITING;
+    case ExploreState::kExploring: return explore_status_t::STATE_EXPLORING;
+    case ExploreState::kDone: return explore_status_t::STATE_DONE;
+  }
+  return explore_status_t::STATE_WAITING;  // unreachable: every state is listed
+}
+
+std::optional<ExploreState> ExploreStateFromLcm(int8_t code) {
+  for (const ExploreState state :
+       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone}) {
+    if (ExploreStateToLcm(state) == code) return state;
+  }
+  return std::nullopt;
+}
+
 explore_status_t ToLcm(const ExploreStatus& status) {
   explore_status_t msg{};
   msg.utime = status.utime;
-  switch (status.state) {
-    case ExploreState::kWaiting: msg.state = explore_status_t::STATE_WAITING; break;
-    case ExploreState::kExploring: msg.state = explore_status_t::STATE_EXPLORING; break;
-    case ExploreState::kDone: msg.state = explore_status_t::STATE_DONE; break;
-  }
+  msg.state = ExploreStateToLcm(status.state);
   msg.method = UtilityMethodName(status.method);
   msg.current_goal_id = status.current_goal_id;
   msg.num_frontiers = status.num_frontiers;

@@ -5,6 +5,7 @@
 // frame filter of common/types_lcm.h.
 
 #include <cstdint>
+#include <optional>
 
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
@@ -21,5 +22,8 @@ utility_scores_t ScoresToLcm(const GoalDecision& decision, int64_t utime, int64_
 
 explore_goal_t ToLcm(const ExploreGoal& goal);
 explore_status_t ToLcm(const ExploreStatus& status);
+// explore_status_t's state code for `state`, and back (nullopt for an unknown code).
+int8_t ExploreStateToLcm(ExploreState state);
+std::optional<ExploreState> ExploreStateFromLcm(int8_t code);
 
 }  // namespace aslam

@@ -19,6 +19,7 @@
 #include "common/inproc_host.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
+#include "utility/utility_lcm.h"
 
 namespace aslam {
 namespace {
@@ -142,6 +143,15 @@ class Bench {
   UtilityNode node_;
   Subscriptions listener_;
 };
+
+TEST(UtilityLcm, ExploreStatesRoundTripAndUnknownCodesAreRejected) {
+  for (const ExploreState state :
+       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone}) {
+    EXPECT_EQ(ExploreStateFromLcm(ExploreStateToLcm(state)), state) << ExploreStateName(state);
+  }
+  EXPECT_EQ(ExploreStateToLcm(ExploreState::kDone), explore_status_t::STATE_DONE);
+  EXPECT_EQ(ExploreStateFromLcm(7), std::nullopt);
+}
 
 TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
   Bench bench(UtilityMethod::kFd);
