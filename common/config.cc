@@ -46,8 +46,9 @@ YAML::Node ParseString(const std::string& text, const std::string& origin) {
 }  // namespace
 
 const std::vector<std::string>& KnownConfigSections() {
-  static const std::vector<std::string> sections = {
-      "robot", "sim", "slam", "frontier", "utility", "nav", "procman", "explore", "eval"};
+  static const std::vector<std::string> sections = {"robot",   "sim",     "slam",    "frontier",
+                                                    "utility", "nav",     "procman", "explore",
+                                                    "eval",    "rplidar", "hokuyo"};
   return sections;
 }
 

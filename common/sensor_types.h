@@ -12,17 +12,22 @@
 namespace aslam {
 
 // A planar lidar sweep. Beam i points at angle_min_rad + i*angle_increment_rad
-// in the sensor frame; range 0 means no return (see lidar_scan_t.lcm).
+// in the sensor frame, measured at utime + beam_time_s[i]; range 0 means no
+// return (see lidar_scan_t.lcm).
 struct LidarScan {
   int64_t utime = 0;
   int64_t seq = 0;
   Pose2d sensor_pose;  // sensor in the base frame
   double angle_min_rad = 0.0;
   double angle_increment_rad = 0.0;
-  double time_increment_s = 0.0;
   double range_min_m = 0.0;
   double range_max_m = 0.0;
   std::vector<float> range_m;
+  // When each beam was measured, seconds after utime: empty for an instantaneous
+  // sweep, else one per beam (a spinning lidar's sweep takes its whole period).
+  std::vector<float> beam_time_s;
+
+  double BeamTimeS(std::size_t i) const { return beam_time_s.empty() ? 0.0 : beam_time_s[i]; }
 
   double BeamAngle(std::size_t i) const { return angle_min_rad + i * angle_increment_rad; }
   bool IsValidReturn(std::size_t i) const {

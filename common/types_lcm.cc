@@ -79,32 +79,81 @@ lidar_scan_t ToLcm(const LidarScan& scan) {
   msg.sensor_pose = ToLcm(scan.sensor_pose);
   msg.angle_min_rad = static_cast<float>(scan.angle_min_rad);
   msg.angle_increment_rad = static_cast<float>(scan.angle_increment_rad);
-  msg.time_increment_s = static_cast<float>(scan.time_increment_s);
   msg.range_min_m = static_cast<float>(scan.range_min_m);
   msg.range_max_m = static_cast<float>(scan.range_max_m);
   msg.num_ranges = static_cast<int32_t>(scan.range_m.size());
   msg.range_m = scan.range_m;
+  msg.num_beam_times = static_cast<int32_t>(scan.beam_time_s.size());
+  msg.beam_time_s = scan.beam_time_s;
   return msg;
 }
 
-std::optional<LidarScan> FromLcm(const lidar_scan_t& msg) {
+namespace {
+
+// The geometry both scan wire types share; nullopt if it is unusable.
+template <typename ScanMsgT>
+std::optional<LidarScan> ScanGeometry(const ScanMsgT& msg) {
   LidarScan scan;
   scan.utime = msg.utime;
   scan.seq = msg.seq;
   scan.sensor_pose = FromLcm(msg.sensor_pose);
   scan.angle_min_rad = msg.angle_min_rad;
   scan.angle_increment_rad = msg.angle_increment_rad;
-  scan.time_increment_s = msg.time_increment_s;
   scan.range_min_m = msg.range_min_m;
   scan.range_max_m = msg.range_max_m;
   if (!Finite(scan.sensor_pose) || !std::isfinite(scan.angle_min_rad) ||
-      !std::isfinite(scan.angle_increment_rad) || !std::isfinite(scan.time_increment_s) ||
-      !(scan.range_min_m >= 0.0) || !(scan.range_max_m > scan.range_min_m) ||
-      !std::isfinite(scan.range_max_m)) {
+      !std::isfinite(scan.angle_increment_rad) || !(scan.range_min_m >= 0.0) ||
+      !(scan.range_max_m > scan.range_min_m) || !std::isfinite(scan.range_max_m)) {
     return std::nullopt;
   }
   scan.range_m = msg.range_m;
   return scan;
+}
+
+}  // namespace
+
+std::optional<LidarScan> FromLcm(const lidar_scan_t& msg) {
+  std::optional<LidarScan> scan = ScanGeometry(msg);
+  if (!scan) return std::nullopt;
+  if (!msg.beam_time_s.empty() && msg.beam_time_s.size() != msg.range_m.size()) {
+    return std::nullopt;
+  }
+  for (const float t : msg.beam_time_s) {
+    if (!(std::abs(t) <= kMaxBeamTimeS)) return std::nullopt;  // NaN fails too
+  }
+  scan->beam_time_s = msg.beam_time_s;
+  return scan;
+}
+
+std::optional<LidarScan> FromLcm(const lidar_scan_v1_t& msg) {
+  std::optional<LidarScan> scan = ScanGeometry(msg);
+  if (!scan || !std::isfinite(msg.time_increment_s)) return std::nullopt;
+  if (msg.time_increment_s != 0.0f) {
+    scan->beam_time_s.resize(scan->range_m.size());
+    for (std::size_t i = 0; i < scan->beam_time_s.size(); ++i) {
+      scan->beam_time_s[i] = static_cast<float>(i * static_cast<double>(msg.time_increment_s));
+      if (!(std::abs(scan->beam_time_s[i]) <= kMaxBeamTimeS)) return std::nullopt;
+    }
+  }
+  return scan;
+}
+
+std::optional<LidarScan> DecodeLidarScan(const void* data, int size) {
+  lidar_scan_t msg;
+  if (msg.decode(data, 0, size) == size) return FromLcm(msg);
+  lidar_scan_v1_t legacy;
+  if (legacy.decode(data, 0, size) == size) return FromLcm(legacy);
+  return std::nullopt;
+}
+
+void AddLidarScanSubscription(Subscriptions& subscriptions, const std::string& channel,
+                              std::function<bool(const LidarScan&)> handler) {
+  auto take = [handler = std::move(handler)](const std::optional<LidarScan>& scan) {
+    return scan && handler(*scan);
+  };
+  subscriptions.AddWithLegacy<lidar_scan_t, lidar_scan_v1_t>(
+      channel, [take](const lidar_scan_t& m) { return take(FromLcm(m)); },
+      [take](const lidar_scan_v1_t& m) { return take(FromLcm(m)); });
 }
 
 odometry_t ToLcm(const Odometry& odometry) {

@@ -11,6 +11,7 @@
 
 #include "aslam/compressed_occupancy_grid_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
+#include "aslam/lidar_scan_v1_t.hpp"
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
 #include "aslam/pose2d_t.hpp"
@@ -28,9 +29,21 @@ pose2d_t ToLcm(const Pose2d& pose);
 Pose2d FromLcm(const pose2d_t& msg);
 
 lidar_scan_t ToLcm(const LidarScan& scan);
-// Rejects non-finite geometry and range_min >= range_max; single bad beams
-// are the receiver's business (LidarScan::IsValidReturn).
+// Rejects non-finite geometry, range_min >= range_max, and beam times that are not
+// absent or one per beam, finite and within kMaxBeamTimeS; single bad beams are the
+// receiver's business (LidarScan::IsValidReturn).
 std::optional<LidarScan> FromLcm(const lidar_scan_t& msg);
+// A scan from a log written before beam times: beam i at i * time_increment_s.
+std::optional<LidarScan> FromLcm(const lidar_scan_v1_t& msg);
+// No lidar sweeps slower than 1 Hz; a beam time beyond this is garbage.
+inline constexpr double kMaxBeamTimeS = 1.0;
+// LIDAR_SCAN bytes of either wire type (a log may be older than beam times), decoded
+// and validated; nullopt if they are neither or invalid.
+std::optional<LidarScan> DecodeLidarScan(const void* data, int size);
+// Subscribes `handler` to `channel` (LIDAR_SCAN) in both wire types; invalid scans are
+// counted as rejected without reaching the handler.
+void AddLidarScanSubscription(Subscriptions& subscriptions, const std::string& channel,
+                              std::function<bool(const LidarScan&)> handler);
 
 odometry_t ToLcm(const Odometry& odometry);
 std::optional<Odometry> FromLcm(const odometry_t& msg);  // rejects non-finite values

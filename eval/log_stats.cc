@@ -14,6 +14,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "aslam/lidar_scan_t.hpp"
+#include "aslam/lidar_scan_v1_t.hpp"
 #include "aslam/procman_status_t.hpp"
 #include "aslam/velocity_command_t.hpp"
 #include "common/channels.h"
@@ -152,11 +153,15 @@ LogStats ComputeLogStats(const std::string& lcmlog_path) {
 
     if (event->channel == channels::kLidarScan) {
       lidar_scan_t scan;
-      if (!Decode(*event, &scan)) {
+      lidar_scan_v1_t legacy_scan;  // a log from before beam times
+      if (Decode(*event, &scan)) {
+        matcher.AddScan(scan.utime, event->timestamp);
+      } else if (Decode(*event, &legacy_scan)) {
+        matcher.AddScan(legacy_scan.utime, event->timestamp);
+      } else {
         ++stats.undecodable;
         continue;
       }
-      matcher.AddScan(scan.utime, event->timestamp);
     } else if (event->channel == channels::kCmdVel) {
       velocity_command_t command;
       if (!Decode(*event, &command)) {

@@ -19,8 +19,8 @@ NavNode::NavNode(lcm::LCM& lcm, NavOptions options)
   subscriptions_.Add<pose_t>(channels::kSlamPose, [this](const pose_t& m) { return OnPose(m); });
   AddMapSubscription(subscriptions_, channels::kSlamMap,
                      [this](MapMessage m) { return OnMap(std::move(m)); });
-  subscriptions_.Add<lidar_scan_t>(channels::kLidarScan,
-                                   [this](const lidar_scan_t& m) { return OnScan(m); });
+  AddLidarScanSubscription(subscriptions_, channels::kLidarScan,
+                           [this](const LidarScan& scan) { return OnScan(scan); });
   subscriptions_.Add<explore_goal_t>(channels::kExploreGoal,
                                      [this](const explore_goal_t& m) { return OnGoal(m); });
 }
@@ -49,20 +49,18 @@ bool NavNode::OnMap(MapMessage msg) {
   return true;
 }
 
-bool NavNode::OnScan(const lidar_scan_t& msg) {
-  const auto scan = FromLcm(msg);
-  if (!scan) return false;
-  const StreamClock::Verdict verdict = scan_clock_.Offer(scan->utime);
+bool NavNode::OnScan(const LidarScan& scan) {
+  const StreamClock::Verdict verdict = scan_clock_.Offer(scan.utime);
   if (!StreamClock::Accepted(verdict)) return false;
-  if (verdict == StreamClock::Verdict::kResynced) navigator_.RestartClock(scan->utime);
-  latest_utime_ = scan->utime;
-  navigator_.SetScan(*scan);
-  const NavOutput out = navigator_.Step(scan->utime);
+  if (verdict == StreamClock::Verdict::kResynced) navigator_.RestartClock(scan.utime);
+  latest_utime_ = scan.utime;
+  navigator_.SetScan(scan);
+  const NavOutput out = navigator_.Step(scan.utime);
   const velocity_command_t command = ToLcm(out.command);
   lcm_.publish(channels::kCmdVel, &command);
   ++commands_published_;
   PublishStatus(out.status);
-  PublishPathIfChanged(scan->utime);
+  PublishPathIfChanged(scan.utime);
   return true;
 }
 

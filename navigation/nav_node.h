@@ -37,7 +37,7 @@ class NavNode {
  private:
   bool OnPose(const pose_t& msg);
   bool OnMap(MapMessage msg);
-  bool OnScan(const lidar_scan_t& msg);
+  bool OnScan(const LidarScan& scan);
   bool OnGoal(const explore_goal_t& msg);
   void PublishStatus(const NavStatus& status);
   void PublishPathIfChanged(int64_t utime);

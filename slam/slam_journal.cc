@@ -20,8 +20,8 @@ namespace {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the journal is written little-endian");
 
-constexpr char kMagic[8] = {'A', 'S', 'L', 'A', 'M', 'J', '0', '1'};
-constexpr std::size_t kRecordOverhead = 12;  // type, length, CRC
+constexpr char kMagic[8] = {'A', 'S', 'L', 'A', 'M', 'J', '0', '2'};  // 02: beam times
+constexpr std::size_t kRecordOverhead = 12;                           // type, length, CRC
 constexpr uint32_t kMaxRecordBytes = 64u << 20;
 
 enum RecordType : uint32_t {
@@ -156,13 +156,16 @@ void Replay(uint32_t type, const std::string& payload, SlamSnapshot* s) {
       scan.sensor_pose = d.GetPose();
       scan.angle_min_rad = d.Get<double>();
       scan.angle_increment_rad = d.Get<double>();
-      scan.time_increment_s = d.Get<double>();
       scan.range_min_m = d.Get<double>();
       scan.range_max_m = d.Get<double>();
       const uint32_t beams = d.Get<uint32_t>();
       if (beams > kMaxRecordBytes / sizeof(float)) throw DecodeError("implausible beam count");
       scan.range_m.resize(beams);
       for (float& r : scan.range_m) r = d.Get<float>();
+      if (d.Get<uint8_t>() != 0) {
+        scan.beam_time_s.resize(beams);
+        for (float& t : scan.beam_time_s) t = d.Get<float>();
+      }
       std::optional<PoseGraphEdge> edge;
       if (d.Get<uint8_t>() != 0) edge = d.GetEdge();
       d.ExpectEnd();
@@ -235,7 +238,9 @@ SlamJournalRead ReadSlamJournal(const std::string& path) {
   if (!in) throw std::runtime_error("cannot read SLAM journal " + path + ": " + ErrnoText());
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    throw std::runtime_error(path + ": not an aslam SLAM journal (no ASLAMJ01 header)");
+    throw std::runtime_error(
+        path +
+        ": not a SLAM journal of this aslam (no ASLAMJ02 header; ASLAMJ01 is an older aslam's)");
   }
   SlamJournalRead read;
   std::size_t offset = sizeof(kMagic);
@@ -328,12 +333,14 @@ void SlamJournalWriter::OnKeyframe(const KeyframeRecord& k,
   e.PutPose(scan.sensor_pose);
   e.Put(scan.angle_min_rad);
   e.Put(scan.angle_increment_rad);
-  e.Put(scan.time_increment_s);
   e.Put(scan.range_min_m);
   e.Put(scan.range_max_m);
   e.Put<uint32_t>(static_cast<uint32_t>(scan.range_m.size()));
   e.bytes().append(reinterpret_cast<const char*>(scan.range_m.data()),
                    scan.range_m.size() * sizeof(float));
+  e.Put<uint8_t>(scan.beam_time_s.empty() ? 0 : 1);  // else one per beam (LidarScan)
+  e.bytes().append(reinterpret_cast<const char*>(scan.beam_time_s.data()),
+                   scan.beam_time_s.size() * sizeof(float));
   e.Put<uint8_t>(sequential_edge ? 1 : 0);
   if (sequential_edge) e.PutEdge(*sequential_edge);
   Append(kKeyframe, e.bytes());

@@ -20,8 +20,8 @@ SlamNode::SlamNode(lcm::LCM& lcm, SlamOptions options, SlamNodeOptions node_opti
     : lcm_(lcm), slam_(std::move(options)), node_options_(node_options), subscriptions_(lcm) {
   subscriptions_.Add<odometry_t>(channels::kOdometry,
                                  [this](const odometry_t& m) { return OnOdometry(m); });
-  subscriptions_.Add<lidar_scan_t>(channels::kLidarScan,
-                                   [this](const lidar_scan_t& m) { return OnScan(m); });
+  AddLidarScanSubscription(subscriptions_, channels::kLidarScan,
+                           [this](const LidarScan& scan) { return OnScan(scan); });
 }
 
 bool SlamNode::OnOdometry(const odometry_t& msg) {
@@ -32,10 +32,8 @@ bool SlamNode::OnOdometry(const odometry_t& msg) {
   return true;
 }
 
-bool SlamNode::OnScan(const lidar_scan_t& msg) {
-  const auto scan = FromLcm(msg);
-  if (!scan) return false;
-  const ScanUpdate update = slam_.AddScan(*scan);
+bool SlamNode::OnScan(const LidarScan& scan) {
+  const ScanUpdate update = slam_.AddScan(scan);
   if (!update.accepted) return false;
 
   StampedPose pose = update.pose;
@@ -47,10 +45,10 @@ bool SlamNode::OnScan(const lidar_scan_t& msg) {
 
   // A period passed since `since`; a clock that stepped back counts as one passing.
   auto elapsed = [&](int64_t since, double period_s) {
-    return scan->utime < since || scan->utime - since >= std::llround(period_s * 1e6);
+    return scan.utime < since || scan.utime - since >= std::llround(period_s * 1e6);
   };
   if (update.graph_changed || elapsed(last_graph_utime_, node_options_.republish_period_s)) {
-    PublishGraph(scan->utime);
+    PublishGraph(scan.utime);
   }
 
   const bool map_changed = slam_.map_revision() != published_map_revision_;
@@ -59,10 +57,10 @@ bool SlamNode::OnScan(const lidar_scan_t& msg) {
   const bool due = maps_published_ == 0 || elapsed(last_map_utime_, node_options_.map_period_s);
   if ((map_changed && (urgent || due)) ||
       elapsed(last_map_utime_, node_options_.republish_period_s)) {
-    PublishMap(scan->utime);
+    PublishMap(scan.utime);
   }
   if (journal_) {
-    journal_->Commit(scan->utime);
+    journal_->Commit(scan.utime);
     std::string why_not;
     if (journal_->WantsRewrite() && !journal_->Rewrite(slam_.Snapshot(), &why_not)) {
       std::fprintf(stderr, "aslam-slam: journal not compacted (%s); appending goes on\n",

@@ -50,7 +50,7 @@ class SlamNode {
 
  private:
   bool OnOdometry(const odometry_t& msg);
-  bool OnScan(const lidar_scan_t& msg);
+  bool OnScan(const LidarScan& scan);
   void PublishMap(int64_t utime);
   void PublishGraph(int64_t utime);
 

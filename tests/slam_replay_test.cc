@@ -16,7 +16,6 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
-#include "aslam/lidar_scan_t.hpp"
 #include "aslam/odometry_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
@@ -112,9 +111,8 @@ Replay RunReplay() {
       }
     } else if (channel == channels::kLidarScan) {
       ++replay.scan_events;
-      lidar_scan_t msg;
-      if (msg.decode(event->data, 0, event->datalen) == event->datalen) {
-        if (const auto scan = FromLcm(msg)) replay.scans.emplace(scan->utime, *scan);
+      if (const auto scan = DecodeLidarScan(event->data, event->datalen)) {
+        replay.scans.emplace(scan->utime, *scan);
       }
     } else {
       ADD_FAILURE() << "unexpected channel " << channel;

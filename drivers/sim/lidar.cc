@@ -48,7 +48,6 @@ LidarScan LidarModel::Scan(const SimWorld& world, const Pose2d& sensor_pose_in_w
   scan.seq = seq;
   scan.angle_min_rad = options_.angle_min_rad;
   scan.angle_increment_rad = angle_increment_rad();
-  scan.time_increment_s = 0.0;
   scan.range_min_m = options_.range_min_m;
   scan.range_max_m = options_.range_max_m;
   scan.range_m.resize(options_.num_beams);

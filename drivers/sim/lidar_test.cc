@@ -58,7 +58,7 @@ TEST(LidarTest, ScanFieldsAndBeamLayout) {
   EXPECT_EQ(scan.angle_min_rad, -2.0);
   EXPECT_DOUBLE_EQ(scan.angle_increment_rad, 3.0 / 360);
   EXPECT_DOUBLE_EQ(lidar.BeamAngle(359), -2.0 + 359 * 3.0 / 360);
-  EXPECT_EQ(scan.time_increment_s, 0.0);
+  EXPECT_TRUE(scan.beam_time_s.empty());
   EXPECT_EQ(scan.range_min_m, options.range_min_m);
   EXPECT_EQ(scan.range_max_m, options.range_max_m);
   EXPECT_EQ(scan.sensor_pose.x_m, 0.0);

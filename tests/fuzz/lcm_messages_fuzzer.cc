@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   --size;
   switch (which) {
     case 0:
-      DecodeAndTranslate<lidar_scan_t>(data, size, [](const auto& m) { (void)FromLcm(m); });
+      (void)DecodeLidarScan(data, static_cast<int>(size));  // both wire types of LIDAR_SCAN
       break;
     case 1:
       DecodeAndTranslate<odometry_t>(data, size, [](const auto& m) { (void)FromLcm(m); });
