@@ -41,8 +41,23 @@ std::vector<double> LidarModel::ExactRanges(const SimWorld& world,
                         options_.range_max_m);
 }
 
+double LidarModel::ExactRange(const SimWorld& world, const Pose2d& sensor_pose_in_world,
+                              int beam) const {
+  const double c = std::cos(sensor_pose_in_world.yaw_rad);
+  const double s = std::sin(sensor_pose_in_world.yaw_rad);
+  const Point2d direction{c * beam_cos_[beam] - s * beam_sin_[beam],
+                          s * beam_cos_[beam] + c * beam_sin_[beam]};
+  return world.CastRayAlong({sensor_pose_in_world.x_m, sensor_pose_in_world.y_m}, direction,
+                            options_.range_max_m);
+}
+
 LidarScan LidarModel::Scan(const SimWorld& world, const Pose2d& sensor_pose_in_world, int64_t utime,
                            int64_t seq, std::mt19937_64& rng) const {
+  return ScanFromExactRanges(ExactRanges(world, sensor_pose_in_world), utime, seq, rng);
+}
+
+LidarScan LidarModel::ScanFromExactRanges(const std::vector<double>& exact, int64_t utime,
+                                          int64_t seq, std::mt19937_64& rng) const {
   LidarScan scan;
   scan.utime = utime;
   scan.seq = seq;
@@ -51,8 +66,6 @@ LidarScan LidarModel::Scan(const SimWorld& world, const Pose2d& sensor_pose_in_w
   scan.range_min_m = options_.range_min_m;
   scan.range_max_m = options_.range_max_m;
   scan.range_m.resize(options_.num_beams);
-
-  const std::vector<double> exact = ExactRanges(world, sensor_pose_in_world);
   // One draw from the caller's stream seeds OpenCV's generator for the beams:
   // its ziggurat normals cost a fifth of std::normal_distribution's.
   cv::RNG beam_rng(rng());

@@ -38,6 +38,19 @@ class LidarModel {
   // output bit for bit.
   LidarScan Scan(const SimWorld& world, const Pose2d& sensor_pose_in_world, int64_t utime,
                  int64_t seq, std::mt19937_64& rng) const;
+  // The same sweep from exact ranges gathered beam by beam (a swept scan, each beam cast
+  // from the pose at its own time with ExactRange); draws from `rng` as Scan does.
+  LidarScan ScanFromExactRanges(const std::vector<double>& exact, int64_t utime, int64_t seq,
+                                std::mt19937_64& rng) const;
+  // ExactRanges' value for one beam.
+  double ExactRange(const SimWorld& world, const Pose2d& sensor_pose_in_world, int beam) const;
+
+  // A swept sensor's timing: the beam measured k-th (k = 0 first) and its time after the
+  // sweep's start. Beams lie one angle increment apart at the head's turn rate.
+  int BeamMeasuredAt(int k) const { return options_.clockwise ? options_.num_beams - 1 - k : k; }
+  double SweepTimeOfS(int k) const {
+    return k * angle_increment_rad() / (2.0 * M_PI * options_.rate_hz);
+  }
 
  private:
   LidarOptions options_;

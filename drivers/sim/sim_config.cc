@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "drivers/sim/lidar_models.h"
 #include "drivers/sim/simulator.h"
 
 namespace aslam {
@@ -18,6 +19,14 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim, const RobotOption
   sim.ReadInRange("command_timeout_s", &options.command_timeout_s, 0.01, 60.0);
 
   const ConfigReader lidar = sim.Section("lidar");
+  // A model sets every lidar key; keys given beside it override the model's values.
+  std::string model = options.lidar.model;
+  lidar.Read("model", &model);
+  try {
+    options.lidar = LidarModelOptions(model);
+  } catch (const std::invalid_argument& e) {
+    lidar.Fail("model", e.what());
+  }
   LidarOptions& l = options.lidar;
   lidar.ReadInRange("num_beams", &l.num_beams, 1, 100000);
   lidar.ReadInRange("rate_hz", &l.rate_hz, 0.1, 1000.0);
@@ -28,6 +37,8 @@ SimulatorOptions LoadSimulatorOptions(const ConfigReader& sim, const RobotOption
   lidar.ReadInRange("noise_sigma_m", &l.noise_sigma_m, 0.0, 10.0);
   lidar.ReadInRange("noise_sigma_fraction", &l.noise_sigma_fraction, 0.0, 1.0);
   lidar.ReadInRange("dropout_probability", &l.dropout_probability, 0.0, 1.0);
+  lidar.Read("swept", &l.swept);
+  lidar.Read("clockwise", &l.clockwise);
   if (l.range_min_m >= l.range_max_m) lidar.Fail("range_min_m", "must be below range_max_m");
 
   const ConfigReader noise = sim.Section("odometry_noise");

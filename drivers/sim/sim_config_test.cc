@@ -79,6 +79,21 @@ TEST(SimConfig, ReadsNestedSections) {
   EXPECT_DOUBLE_EQ(options.odometry_noise.alpha3, 0.5);
 }
 
+TEST(SimConfig, ALidarModelSetsTheSensorAndKeysBesideItOverride) {
+  const SimulatorOptions a1 = Load("sim:\n  lidar: {model: rplidar_a1}\n");
+  EXPECT_EQ(a1.lidar.model, "rplidar_a1");
+  EXPECT_EQ(a1.lidar.rate_hz, 5.5);
+  EXPECT_TRUE(a1.lidar.swept);
+  EXPECT_TRUE(a1.lidar.clockwise);
+  const SimulatorOptions urg = Load("sim:\n  lidar: {model: hokuyo_urg04, range_max_m: 4.0}\n");
+  EXPECT_EQ(urg.lidar.num_beams, 682);
+  EXPECT_LT(urg.lidar.fov_rad, 2.0 * M_PI);
+  EXPECT_EQ(urg.lidar.range_max_m, 4.0);
+  EXPECT_FALSE(Load("").lidar.swept);  // the shipped default is the ideal sensor
+  EXPECT_THAT(ErrorOf("sim:\n  lidar: {model: sick_lms}\n"),
+              AllOf(HasSubstr("sim.lidar.model"), HasSubstr("sick_lms"), HasSubstr("rplidar_a1")));
+}
+
 TEST(SimConfig, BadValuesNameKeyAndValue) {
   EXPECT_THAT(ErrorOf("sim:\n  lidar:\n    num_beams: 0\n"),
               AllOf(HasSubstr("test.yaml:3"), HasSubstr("sim.lidar.num_beams"), HasSubstr("'0'")));

@@ -1,5 +1,6 @@
 #include "drivers/sim/simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -75,7 +76,16 @@ void ValidateSimulatorOptions(const SimulatorOptions& options) {
   OutputPeriodUs("odometry_rate_hz", options.odometry_rate_hz, options);
   OutputPeriodUs("truth_rate_hz", options.truth_rate_hz, options);
   OutputPeriodUs("status_rate_hz", options.status_rate_hz, options);
-  OutputPeriodUs("lidar.rate_hz", options.lidar.rate_hz, options);
+  if (options.lidar.swept) {
+    // Sweeps start at k / rate_hz, off the physics grid if need be; one ends per step at most.
+    RequirePositive("lidar.rate_hz", options.lidar.rate_hz);
+    if (options.lidar.rate_hz > options.physics_rate_hz) {
+      ThrowBadOption("lidar.rate_hz", options.lidar.rate_hz,
+                     "a swept lidar must not turn faster than physics_rate_hz");
+    }
+  } else {
+    OutputPeriodUs("lidar.rate_hz", options.lidar.rate_hz, options);
+  }
   RequirePositive("command_timeout_s", options.command_timeout_s);
 
   const LidarOptions& lidar = options.lidar;
@@ -125,7 +135,7 @@ Simulator::Simulator(const OccupancyGrid& world_map, const Pose2d& start_in_worl
       physics_period_us_(PeriodUs("physics_rate_hz", options.physics_rate_hz)),
       odometry_period_us_(PeriodUs("odometry_rate_hz", options.odometry_rate_hz)),
       truth_period_us_(PeriodUs("truth_rate_hz", options.truth_rate_hz)),
-      lidar_period_us_(PeriodUs("lidar.rate_hz", options.lidar.rate_hz)),
+      lidar_period_us_(options.lidar.swept ? 0 : PeriodUs("lidar.rate_hz", options.lidar.rate_hz)),
       status_period_us_(PeriodUs("status_rate_hz", options.status_rate_hz)),
       command_timeout_us_(std::llround(options.command_timeout_s * kMicrosecondsPerSecond)),
       lidar_rng_(MakeStream(options.seed, kLidarStream)),
@@ -158,6 +168,7 @@ SimStepOutput Simulator::Step() {
   if (!status_.command_stale) target = {command_->linear_mps, command_->angular_radps};
 
   const double dt_s = physics_period_us_ / kMicrosecondsPerSecond;
+  const Pose2d pose_before = base_.pose();
   const DiffDriveStepResult moved = base_.Step(target, dt_s, world_);
   utime_ += physics_period_us_;
   ++status_.ticks;
@@ -191,7 +202,9 @@ SimStepOutput Simulator::Step() {
     out.truth =
         StampedPose{utime_, pose, base_.velocity().linear_mps, base_.velocity().angular_radps};
   }
-  if (utime_ % lidar_period_us_ == 0) {
+  if (options_.lidar.swept) {
+    out.scan = AdvanceSweep(pose_before, pose);
+  } else if (utime_ % lidar_period_us_ == 0) {
     // Cast from base ⊕ mount: bit for bit the base pose when the mount is zero (pose2d_test).
     const Pose2d& mount = options_.robot.lidar_mount;
     out.scan = lidar_.Scan(world_, pose * mount, utime_, status_.scans_published, lidar_rng_);
@@ -200,6 +213,49 @@ SimStepOutput Simulator::Step() {
   }
   if (utime_ % status_period_us_ == 0) out.status = status();
   return out;
+}
+
+int64_t Simulator::SweepStartUtime(int64_t sweep) const {
+  return std::llround(sweep * kMicrosecondsPerSecond / options_.lidar.rate_hz);
+}
+
+std::optional<LidarScan> Simulator::AdvanceSweep(const Pose2d& pose_before,
+                                                 const Pose2d& pose_after) {
+  const int64_t step_start_utime = utime_ - physics_period_us_;
+  const int num_beams = lidar_.num_beams();
+  const Pose2d& mount = options_.robot.lidar_mount;
+  std::optional<LidarScan> finished;
+  // The next sweep may start within this step, after the previous one ends in it.
+  while (sweep_ || SweepStartUtime(sweeps_started_) <= utime_) {
+    if (!sweep_) {
+      sweep_ = Sweep{SweepStartUtime(sweeps_started_++), 0, std::vector<double>(num_beams)};
+    }
+    for (; sweep_->next_k < num_beams; ++sweep_->next_k) {
+      const int64_t beam_utime =
+          sweep_->start_utime + std::llround(lidar_.SweepTimeOfS(sweep_->next_k) * 1e6);
+      if (beam_utime > utime_) return finished;
+      // The base moves at constant velocities within a step: interpolate along it.
+      const double f = std::clamp(
+          static_cast<double>(beam_utime - step_start_utime) / physics_period_us_, 0.0, 1.0);
+      const Pose2d pose{
+          pose_before.x_m + f * (pose_after.x_m - pose_before.x_m),
+          pose_before.y_m + f * (pose_after.y_m - pose_before.y_m),
+          pose_before.yaw_rad + f * WrapAngle(pose_after.yaw_rad - pose_before.yaw_rad)};
+      const int beam = lidar_.BeamMeasuredAt(sweep_->next_k);
+      sweep_->exact_m[beam] = lidar_.ExactRange(world_, pose * mount, beam);
+    }
+    finished = lidar_.ScanFromExactRanges(sweep_->exact_m, sweep_->start_utime,
+                                          status_.scans_published, lidar_rng_);
+    finished->sensor_pose = mount;
+    finished->beam_time_s.resize(num_beams);
+    for (int k = 0; k < num_beams; ++k) {
+      const int64_t offset_us = std::llround(lidar_.SweepTimeOfS(k) * 1e6);
+      finished->beam_time_s[lidar_.BeamMeasuredAt(k)] = static_cast<float>(offset_us * 1e-6);
+    }
+    ++status_.scans_published;
+    sweep_.reset();
+  }
+  return finished;
 }
 
 }  // namespace aslam

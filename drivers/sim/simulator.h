@@ -67,7 +67,11 @@ class Simulator {
   // integrates it into the odom pose (identity at t = 0); its velocities are
   // those implied by that noisy delta over the odometry period (what wheel
   // encoders measure), truth carries the true velocities. Scans are cast from
-  // the true pose ⊕ robot.lidar_mount and carry the mount as sensor_pose.
+  // the true pose ⊕ robot.lidar_mount and carry the mount as sensor_pose. A swept
+  // lidar (lidar.swept) starts sweep k at k / rate_hz (any rate, not only whole physics
+  // steps) and casts each beam from the true pose interpolated at the beam's own time;
+  // its scan is emitted at the step that measures its last beam, stamped with the
+  // sweep's start and carrying each beam's time after it.
   SimStepOutput Step();
 
   int64_t utime() const { return utime_; }
@@ -108,6 +112,17 @@ class Simulator {
   Pose2d odom_pose_;
   Pose2d true_pose_at_last_odometry_;
   int64_t odometry_seq_ = 0;
+
+  // The swept lidar's sweep in progress: exact ranges gathered beam by beam.
+  struct Sweep {
+    int64_t start_utime = 0;
+    int next_k = 0;  // beams measured so far, in the head's order
+    std::vector<double> exact_m;
+  };
+  std::optional<LidarScan> AdvanceSweep(const Pose2d& pose_before, const Pose2d& pose_after);
+  int64_t SweepStartUtime(int64_t sweep) const;
+  int64_t sweeps_started_ = 0;
+  std::optional<Sweep> sweep_;
 };
 
 }  // namespace aslam

@@ -5,12 +5,16 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "common/robot_config.h"
 
 namespace aslam {
 
+// The defaults are the "ideal" model: the paper's instantaneous 360° lidar.
+// Named real models (drivers/sim/lidar_models.h) set every field below.
 struct LidarOptions {
+  std::string model = "ideal";
   int num_beams = 720;
   double rate_hz = 10.0;
   double angle_min_rad = -M_PI;  // first beam, sensor frame
@@ -20,6 +24,10 @@ struct LidarOptions {
   double noise_sigma_m = 0.01;  // range noise sigma = noise_sigma_m + noise_sigma_fraction * range
   double noise_sigma_fraction = 0.005;
   double dropout_probability = 0.01;  // chance that a beam with a return reports none
+  // A spinning head measures beam after beam over the period, each from the pose at its
+  // own time (false: every beam at once, as an ideal sensor).
+  bool swept = false;
+  bool clockwise = false;  // the head's turn seen from above (beam order is always CCW)
 };
 
 // Probabilistic Robotics (Thrun et al.) odometry motion model, table 5.6:
