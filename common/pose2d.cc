@@ -48,4 +48,9 @@ std::optional<Pose2d> ParsePose(const std::string& text) {
   return pose;
 }
 
+Pose2d Interpolate(const Pose2d& a, const Pose2d& b, double fraction) {
+  return Pose2d{a.x_m + fraction * (b.x_m - a.x_m), a.y_m + fraction * (b.y_m - a.y_m),
+                WrapAngle(a.yaw_rad + fraction * WrapAngle(b.yaw_rad - a.yaw_rad))};
+}
+
 }  // namespace aslam

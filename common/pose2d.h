@@ -35,6 +35,9 @@ struct Pose2d {
 
 inline Pose2d operator*(const Pose2d& a, const Pose2d& b) { return a.Compose(b); }
 
+// Linear interpolation from `a` (fraction 0) to `b` (1), the yaw the short way round.
+Pose2d Interpolate(const Pose2d& a, const Pose2d& b, double fraction);
+
 std::ostream& operator<<(std::ostream& os, const Pose2d& pose);
 
 // "X,Y,YAW" (m, m, rad), as a --start flag takes it -> pose; nullopt if

@@ -89,5 +89,17 @@ TEST(ParsePose, ParsesXYYawOnly) {
   EXPECT_FALSE(ParsePose("1,2,1e999").has_value());
 }
 
+TEST(Pose2dTest, InterpolateGoesStraightAndTurnsTheShortWay) {
+  const Pose2d a{1.0, 2.0, 3.0};
+  const Pose2d b{3.0, -2.0, -3.0};  // 0.28 rad further on through ±pi, not 6 rad back
+  const Pose2d half = Interpolate(a, b, 0.5);
+  EXPECT_DOUBLE_EQ(half.x_m, 2.0);
+  EXPECT_DOUBLE_EQ(half.y_m, 0.0);
+  EXPECT_NEAR(std::abs(half.yaw_rad), M_PI, 1e-12);
+  EXPECT_NEAR(Interpolate(a, b, 0.25).yaw_rad, 3.0 + 0.25 * (2 * M_PI - 6.0), 1e-12);
+  EXPECT_EQ(Interpolate(a, b, 0.0).x_m, a.x_m);
+  EXPECT_NEAR(Interpolate(a, b, 1.0).yaw_rad, b.yaw_rad, 1e-12);
+}
+
 }  // namespace
 }  // namespace aslam

@@ -10,6 +10,7 @@ namespace aslam {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int64_t kMicrosecondsPerSecond = 1'000'000;
 // When the plans' goal-distance field is recomputed (see Replan).
 constexpr int64_t kGoalDistancesRenewUs = 30'000'000;
 constexpr std::size_t kFieldWeakSettledCells = 20'000;
@@ -85,19 +86,49 @@ void Navigator::UpdateScanMarks() {
   costmap_.Update(marked, options_.costmap);
 }
 
-void Navigator::SetPose(const StampedPose& pose) { pose_ = pose; }
+void Navigator::SetPose(const StampedPose& pose) {
+  pose_ = pose;
+  if (!recent_poses_.empty() && pose.utime <= recent_poses_.back().utime) recent_poses_.clear();
+  recent_poses_.push_back(pose);
+  while (pose.utime - recent_poses_.front().utime > kMicrosecondsPerSecond) {
+    recent_poses_.pop_front();
+  }
+}
+
+Pose2d Navigator::PoseAt(int64_t utime) const {
+  const auto after = std::upper_bound(recent_poses_.begin(), recent_poses_.end(), utime,
+                                      [](int64_t t, const StampedPose& p) { return t < p.utime; });
+  if (after == recent_poses_.begin()) return recent_poses_.front().pose;
+  const StampedPose& before = *std::prev(after);
+  if (after == recent_poses_.end()) {
+    // Newer than the newest pose (the sweep's last beams): go on at its velocities.
+    const double dt_s = static_cast<double>(utime - before.utime) / kMicrosecondsPerSecond;
+    return before.pose *
+           Pose2d{before.linear_velocity_mps * dt_s, 0.0, before.angular_velocity_radps * dt_s};
+  }
+  const double fraction =
+      static_cast<double>(utime - before.utime) / static_cast<double>(after->utime - before.utime);
+  return Interpolate(before.pose, after->pose, fraction);
+}
 
 void Navigator::SetScan(const LidarScan& scan) {
   scan_points_m_.clear();
   scan_utime_ = scan.utime;
   if (!pose_) return;
+  // An instantaneous scan is placed at the latest pose; a swept one beam by beam.
   const Pose2d sensor_in_map = pose_->pose.Compose(scan.sensor_pose);
   for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
     if (!scan.IsValidReturn(i)) continue;
     const double angle_rad = scan.BeamAngle(i);
     const double range_m = scan.range_m[i];
-    scan_points_m_.push_back(
-        sensor_in_map.Transform({range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)}));
+    const Point2d in_sensor{range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)};
+    if (scan.beam_time_s.empty()) {
+      scan_points_m_.push_back(sensor_in_map.Transform(in_sensor));
+    } else {
+      const int64_t beam_utime =
+          scan.utime + std::llround(scan.beam_time_s[i] * kMicrosecondsPerSecond);
+      scan_points_m_.push_back((PoseAt(beam_utime) * scan.sensor_pose).Transform(in_sensor));
+    }
   }
 }
 

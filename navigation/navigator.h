@@ -20,6 +20,7 @@
 // map plus the scan returns near the robot that the map does not explain.
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -142,6 +143,9 @@ class Navigator {
   bool costmap_current_ = false;           // costmap_ = map_ + marked_cells_
   bool has_map_ = false;
   std::optional<StampedPose> pose_;
+  // The last second of poses: a swept scan's beams are placed from the pose at each one's time.
+  std::deque<StampedPose> recent_poses_;
+  Pose2d PoseAt(int64_t utime) const;
   std::vector<Point2d> scan_points_m_;
   int64_t scan_utime_ = -1;
 

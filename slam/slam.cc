@@ -1,5 +1,7 @@
 #include "slam/slam.h"
 
+#include "slam/scan_deskew.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,12 +20,6 @@ bool IsFinite(const Pose2d& pose) {
 }
 
 double Norm(const Pose2d& pose) { return std::hypot(pose.x_m, pose.y_m); }
-
-// Linear interpolation between two odometry poses (yaw along the short way).
-Pose2d Interpolate(const Pose2d& a, const Pose2d& b, double fraction) {
-  return Pose2d{a.x_m + fraction * (b.x_m - a.x_m), a.y_m + fraction * (b.y_m - a.y_m),
-                WrapAngle(a.yaw_rad + fraction * WrapAngle(b.yaw_rad - a.yaw_rad))};
-}
 
 // How far from the base a beam of `scan` reaches into the map: the farthest
 // valid return (or no-return clearing) plus the sensor's offset.
@@ -259,6 +255,26 @@ void Slam::AcceptOdometry(const Odometry& raw) {
   ++counters_.odometry_received;
 }
 
+LidarScan Slam::Deskewed(const LidarScan& scan, const Pose2d& odom_at_scan) const {
+  if (!options_.input.deskew || scan.beam_time_s.empty()) return scan;
+  const Pose2d odom_at_scan_inverse = odom_at_scan.Inverse();
+  const Odometry& newest = odometry_.back();
+  const int64_t max_extrapolation_us =
+      std::llround(options_.input.deskew_max_extrapolation_s * 1e6);
+  return DeskewScan(scan, [&](double seconds_after_utime) {
+    const int64_t utime = scan.utime + std::llround(seconds_after_utime * 1e6);
+    // The last beams of a sweep may postdate the newest odometry by a sample period.
+    if (utime > newest.utime && utime - newest.utime <= max_extrapolation_us) {
+      const double dt_s = (utime - newest.utime) * 1e-6;
+      const Pose2d step{newest.linear_velocity_mps * dt_s, 0.0,
+                        newest.angular_velocity_radps * dt_s};
+      return odom_at_scan_inverse * newest.pose * step;
+    }
+    const std::optional<Pose2d> odom = OdometryAt(utime);
+    return odom ? odom_at_scan_inverse * *odom : Pose2d{};
+  });
+}
+
 std::optional<Pose2d> Slam::OdometryAt(int64_t utime) const {
   if (odometry_.empty()) return std::nullopt;
   // The newest sample at or before `utime`, interpolated toward the next one.
@@ -327,16 +343,10 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
         std::abs(since_keyframe.yaw_rad) < options_.keyframe.rotation_rad) {
       update.pose.pose = graph_.nodes.back().pose.Compose(since_keyframe);
     } else {
-      AddKeyframe(
-          scan, *odom_pose,
-          std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
-          &update);
+      AddKeyframe(Deskewed(scan, *odom_pose), *odom_pose, &update);
     }
   } else {
-    AddKeyframe(
-        scan, *odom_pose,
-        std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m)),
-        &update);
+    AddKeyframe(Deskewed(scan, *odom_pose), *odom_pose, &update);
   }
   if (update.keyframe_added) update.pose.pose = graph_.nodes.back().pose;
   update.pose.utime = scan.utime;
@@ -361,8 +371,9 @@ Eigen::Matrix3d Slam::EdgeInformation(const Pose2d& from_pose,
   return 0.5 * (information + information.transpose());
 }
 
-void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
-                       std::shared_ptr<const PointCloud2d> points, ScanUpdate* update) {
+void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose, ScanUpdate* update) {
+  auto points =
+      std::make_shared<PointCloud2d>(ScanToPoints(scan, options_.front_end.point_spacing_m));
   const int id = static_cast<int>(keyframes_.size());
   std::optional<PoseGraphEdge> sequential_edge;
   Pose2d pose;  // the first keyframe anchors "map"

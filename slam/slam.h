@@ -172,12 +172,13 @@ class Slam {
   };
 
   std::optional<Pose2d> OdometryAt(int64_t utime) const;
+  // The scan motion-compensated to its utime, where odometry covers its beams (input.deskew).
+  LidarScan Deskewed(const LidarScan& scan, const Pose2d& odom_at_scan) const;
   void AcceptOdometry(const Odometry& raw);
   SlamState State() const;
   // Removes graph_.edges[index], telling the journal.
   void EraseEdge(std::size_t index);
-  void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose,
-                   std::shared_ptr<const PointCloud2d> points, ScanUpdate* update);
+  void AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose, ScanUpdate* update);
   // True when map_thinning keeps `keyframe`, at `pose`, out of the map.
   bool MapExplains(const Keyframe& keyframe, const Pose2d& pose) const;
   void TryLoopClosure(int node_id, ScanUpdate* update);

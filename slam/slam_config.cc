@@ -88,6 +88,8 @@ void LoadInput(const ConfigReader& c, InputOptions* o) {
   c.ReadInRange("odometry_buffer_s", &o->odometry_buffer_s, 0.1, 3600.0);
   c.ReadInRange("max_time_gap_s", &o->max_time_gap_s, 0.05, 3600.0);
   c.ReadInRange("resync_messages", &o->resync_messages, 2, 100);
+  c.Read("deskew", &o->deskew);
+  c.ReadInRange("deskew_max_extrapolation_s", &o->deskew_max_extrapolation_s, 0.0, 1.0);
 }
 
 void LoadNode(const ConfigReader& c, SlamNodeOptions* o) {

@@ -82,6 +82,8 @@ void ExpectSame(const SlamConfig& a, const SlamConfig& b) {
   EXPECT_EQ(x.input.odometry_buffer_s, y.input.odometry_buffer_s);
   EXPECT_EQ(x.input.max_time_gap_s, y.input.max_time_gap_s);
   EXPECT_EQ(x.input.resync_messages, y.input.resync_messages);
+  EXPECT_EQ(x.input.deskew, y.input.deskew);
+  EXPECT_EQ(x.input.deskew_max_extrapolation_s, y.input.deskew_max_extrapolation_s);
 
   EXPECT_EQ(a.node.map_period_s, b.node.map_period_s);
   EXPECT_EQ(a.node.republish_period_s, b.node.republish_period_s);
@@ -130,6 +132,8 @@ struct InputFields {
   int i0;
   double d[4];
   int i1;
+  bool b;
+  double d2;
 };
 static_assert(sizeof(KeyframeOptions) == sizeof(KeyframeFields));
 static_assert(sizeof(MapThinningOptions) == sizeof(MapThinningFields));
@@ -226,6 +230,8 @@ slam:
     odometry_buffer_s: 4.0
     max_time_gap_s: 2.5
     resync_messages: 5
+    deskew: false
+    deskew_max_extrapolation_s: 0.05
   node: {map_period_s: 2.0, republish_period_s: 7.5, map_encoding: raw}
 )",
                                                                "slam"));
@@ -285,6 +291,8 @@ slam:
   EXPECT_EQ(o.input.odometry_buffer_s, 4.0);
   EXPECT_EQ(o.input.max_time_gap_s, 2.5);
   EXPECT_EQ(o.input.resync_messages, 5);
+  EXPECT_FALSE(o.input.deskew);
+  EXPECT_EQ(o.input.deskew_max_extrapolation_s, 0.05);
   EXPECT_EQ(c.node.map_period_s, 2.0);
   EXPECT_EQ(c.node.republish_period_s, 7.5);
   EXPECT_EQ(c.node.map_encoding, SlamNodeOptions::MapEncoding::kRaw);

@@ -240,7 +240,7 @@ SlamJournalRead ReadSlamJournal(const std::string& path) {
   if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
     throw std::runtime_error(
         path +
-        ": not a SLAM journal of this aslam (no ASLAMJ02 header; ASLAMJ01 is an older aslam's)");
+        ": not an aslam SLAM journal of this version (no ASLAMJ02 header; ASLAMJ01 is an older aslam's)");
   }
   SlamJournalRead read;
   std::size_t offset = sizeof(kMagic);

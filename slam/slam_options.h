@@ -68,6 +68,12 @@ struct InputOptions {
   // the bounds above) is held back; this many in a row that agree with one another start a
   // new stream, so one bad stamp is dropped and a real reset is followed.
   int resync_messages = kDefaultResyncMessages;
+  // A swept scan (with beam times) is motion-compensated with odometry at each beam's time
+  // before it becomes a keyframe (slam/scan_deskew.h); false keeps it as measured.
+  bool deskew = true;
+  // Odometry is extrapolated at its last velocities at most this far past its newest sample
+  // for the last beams of a sweep.
+  double deskew_max_extrapolation_s = 0.1;
 };
 
 struct SlamOptions {

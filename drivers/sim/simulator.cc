@@ -237,10 +237,7 @@ std::optional<LidarScan> Simulator::AdvanceSweep(const Pose2d& pose_before,
       // The base moves at constant velocities within a step: interpolate along it.
       const double f = std::clamp(
           static_cast<double>(beam_utime - step_start_utime) / physics_period_us_, 0.0, 1.0);
-      const Pose2d pose{
-          pose_before.x_m + f * (pose_after.x_m - pose_before.x_m),
-          pose_before.y_m + f * (pose_after.y_m - pose_before.y_m),
-          pose_before.yaw_rad + f * WrapAngle(pose_after.yaw_rad - pose_before.yaw_rad)};
+      const Pose2d pose = Interpolate(pose_before, pose_after, f);
       const int beam = lidar_.BeamMeasuredAt(sweep_->next_k);
       sweep_->exact_m[beam] = lidar_.ExactRange(world_, pose * mount, beam);
     }

@@ -379,10 +379,7 @@ TEST(SimulatorTest, SweptScansCastEachBeamFromThePoseAtItsTime) {
     if (after->first == utime) return after->second;
     const auto before = std::prev(after);
     const double f = static_cast<double>(utime - before->first) / (after->first - before->first);
-    const Pose2d& a = before->second;
-    const Pose2d& b = after->second;
-    return Pose2d{a.x_m + f * (b.x_m - a.x_m), a.y_m + f * (b.y_m - a.y_m),
-                  a.yaw_rad + f * WrapAngle(b.yaw_rad - a.yaw_rad)};
+    return Interpolate(before->second, after->second, f);
   };
   int smeared_beams = 0;
   for (std::size_t k = 0; k < scans.size(); ++k) {
