@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "common/world_file.h"
+#include "drivers/sim/lidar_models.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/simulator.h"
 
@@ -28,8 +29,8 @@ int64_t Dropped(const Slam& slam, DropReason reason) {
 // A simulator in the test world, parked or following a scripted drive.
 class SimulatedRun {
  public:
-  SimulatedRun()
-      : world_(LoadWorld(kRoot + "/worlds/test")), sim_(world_.map.grid, world_.start, {}) {}
+  explicit SimulatedRun(const SimulatorOptions& options = {})
+      : world_(LoadWorld(kRoot + "/worlds/test")), sim_(world_.map.grid, world_.start, options) {}
 
   // Steps until the next scan; returns it with the odometry of the same time.
   std::pair<Odometry, LidarScan> NextScan(const VelocityCommand& command) {
@@ -186,6 +187,43 @@ TEST(Slam, FirstKeyframeAnchorsTheMapAndPosesFollowTheTruth) {
   const auto counts = map.CountCells();
   EXPECT_GT(counts.free, 1000u);
   EXPECT_GT(counts.occupied, 100u);
+}
+
+// An RPLidar A1 (a 0.18 s clockwise sweep) on a robot that turns at 1.5 rad/s: its scans
+// are smeared by a quarter turn. Deskewed keyframes keep the pose; raw ones lose it.
+double PoseErrorAfterTurningWithASweptLidar(bool deskew) {
+  SimulatorOptions sim_options;
+  sim_options.lidar = LidarModelOptions("rplidar_a1");
+  SimulatedRun run(sim_options);
+  SlamOptions options;
+  options.input.deskew = deskew;
+  options.loop_closure.enabled = false;  // the front end alone
+  Slam slam(options);
+  Pose2d start_truth;
+  for (int i = 0; i < 120; ++i) {  // 22 s: forward, turning, forward, turning back
+    const double angular_radps = (i / 30) % 2 == 1 ? (i < 60 ? 1.5 : -1.5) : 0.0;
+    auto [odometry, scan] = run.NextScan({0, 0.2, angular_radps});
+    if (i == 0) start_truth = run.truth();
+    slam.AddOdometry(odometry);
+    EXPECT_TRUE(slam.AddScan(scan).accepted);
+  }
+  for (int i = 0; i < 3; ++i) {  // stand still: the latest pose is the truth's time
+    auto [odometry, scan] = run.NextScan({0, 0.0, 0.0});
+    slam.AddOdometry(odometry);
+    slam.AddScan(scan);
+  }
+  const Pose2d truth_in_map = start_truth.Between(run.truth());
+  const Pose2d estimate = slam.latest_pose()->pose;
+  return std::hypot(estimate.x_m - truth_in_map.x_m, estimate.y_m - truth_in_map.y_m) +
+         3.0 * std::abs(WrapAngle(estimate.yaw_rad - truth_in_map.yaw_rad));
+}
+
+TEST(Slam, SweptScansAreDeskewedBeforeMatching) {
+  const double deskewed_error = PoseErrorAfterTurningWithASweptLidar(true);
+  const double raw_error = PoseErrorAfterTurningWithASweptLidar(false);
+  // Position error plus the yaw error's displacement 3 m out.
+  EXPECT_LT(deskewed_error, 0.04);
+  EXPECT_GT(raw_error, 3.0 * deskewed_error);
 }
 
 TEST(Slam, BadInputIsDroppedAndCountedByReason) {
