@@ -1,0 +1,397 @@
+#include "tests/rplidar/rplidar_emulator.h"
+
+#include <poll.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace aslam {
+namespace {
+
+double NowS() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void PutU16(std::vector<uint8_t>* bytes, unsigned value) {
+  bytes->push_back(static_cast<uint8_t>(value & 0xFF));
+  bytes->push_back(static_cast<uint8_t>((value >> 8) & 0xFF));
+}
+
+// Angle compensation of legacy cabin samples, q3 degrees (sign and magnitude): a slow wave
+// of +-2.5 deg, so that a decoder ignoring it, or reading the sign wrong, is off.
+int CompensationQ3(int64_t sample) {
+  return static_cast<int>(std::lround(20.0 * std::sin(2.0 * M_PI * sample / 400.0)));
+}
+
+}  // namespace
+
+RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
+  RplidarEmulatorOptions o;
+  if (name == "a1") return o;  // an A1M8: model 0x18, firmware 1.29, 508/254 us, 5.5 Hz
+  if (name == "a2") {
+    o.model_byte = 0x28;
+    o.firmware_minor = 24;
+    o.hardware = 5;
+    o.standard_sample_us = 500;  // 2 k samples/s
+    o.express_sample_us = 250;   // 4 k samples/s
+    o.rotation_hz = 10.0;
+    o.boot_banner = "RP LIDAR System.\r\nFirmware Ver 1.24 - rtm, HW Ver 5\r\nModel: 28\r\n";
+    return o;
+  }
+  if (name == "a3") {
+    o.model_byte = 0x31;
+    o.firmware_minor = 26;
+    o.hardware = 6;
+    o.standard_sample_us = 250;  // 4 k samples/s
+    o.express_sample_us = 126;   // 7.9 k samples/s
+    o.rotation_hz = 10.0;
+    o.boot_banner = "RP LIDAR System.\r\nFirmware Ver 1.26 - rtm, HW Ver 6\r\nModel: 31\r\n";
+    return o;
+  }
+  if (name == "s1" || name == "s2") {
+    o.model_byte = name == "s1" ? 0x61 : 0x71;
+    o.firmware_minor = name == "s1" ? 28 : 2;
+    o.hardware = 18;
+    o.standard_sample_us = name == "s1" ? 244 : 125;
+    o.express_sample_us = name == "s1" ? 108 : 31;  // DenseBoost: 9.2 k / 32 k samples/s
+    o.dense_express = true;
+    o.rotation_hz = 10.0;
+    o.boot_banner.clear();  // S-series say nothing after a reset
+    return o;
+  }
+  throw std::invalid_argument("RplidarEmulatorModel: unknown model " + name);
+}
+
+RplidarEmulator::RplidarEmulator(RplidarEmulatorOptions options) : options_(std::move(options)) {
+  char dir[] = "/tmp/rplidar_emulator_XXXXXX";
+  if (!::mkdtemp(dir)) throw std::runtime_error("mkdtemp failed");
+  dir_ = dir;
+  link_path_ = dir_ + "/rplidar";
+  pty_ = std::make_unique<PseudoTerminal>();
+  PointLink();
+  thread_ = std::thread([this] { Run(); });
+}
+
+RplidarEmulator::~RplidarEmulator() {
+  running_ = false;
+  thread_.join();
+  ::unlink(link_path_.c_str());
+  ::rmdir(dir_.c_str());
+}
+
+void RplidarEmulator::PointLink() {
+  // A new link beside the old one, renamed over it: the path never dangles half-made.
+  const std::string temporary = link_path_ + ".new";
+  ::unlink(temporary.c_str());
+  if (::symlink(pty_->slave_path().c_str(), temporary.c_str()) != 0 ||
+      ::rename(temporary.c_str(), link_path_.c_str()) != 0) {
+    throw std::runtime_error("cannot point " + link_path_ + " at " + pty_->slave_path());
+  }
+}
+
+void RplidarEmulator::InjectGarbage(const std::vector<uint8_t>& bytes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_garbage_.insert(pending_garbage_.end(), bytes.begin(), bytes.end());
+}
+
+void RplidarEmulator::CorruptNextCapsule() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  corrupt_next_capsule_ = true;
+}
+
+void RplidarEmulator::SetHealth(uint8_t status, uint16_t error_code, bool survives_reset) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  options_.health_status = status;
+  options_.health_error_code = error_code;
+  options_.health_error_survives_reset = survives_reset;
+}
+
+void RplidarEmulator::ResetNow() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  reset_requested_ = true;
+}
+
+void RplidarEmulator::Unplug() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (pty_) pty_->Close();
+  pty_.reset();
+  ::unlink(link_path_.c_str());
+  stream_ = Stream::kNone;
+  input_.clear();
+}
+
+void RplidarEmulator::Replug() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pty_ = std::make_unique<PseudoTerminal>();
+  PointLink();
+  stream_ = Stream::kNone;
+  deaf_until_s_ = 0.0;
+}
+
+std::vector<uint8_t> RplidarEmulator::ReceivedBytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return received_;
+}
+
+std::vector<uint8_t> RplidarEmulator::ReceivedCommands() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return commands_;
+}
+
+void RplidarEmulator::Send(const std::vector<uint8_t>& bytes) {
+  if (!pty_ || bytes.empty()) return;
+  // A UART never blocks: what the receiver's buffer cannot take is lost.
+  const ssize_t n = ::write(pty_->master_fd(), bytes.data(), bytes.size());
+  (void)n;
+}
+
+void RplidarEmulator::Run() {
+  while (running_) {
+    std::vector<uint8_t> input;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (pty_) input = pty_->Read(0);
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (reset_requested_) {
+        reset_requested_ = false;
+        DoReset();
+        input_.clear();
+      }
+      if (!input.empty()) HandleInput(input);
+      if (!pending_garbage_.empty() && pty_) {
+        Send(pending_garbage_);
+        pending_garbage_.clear();
+      }
+      if (stream_ != Stream::kNone) StreamDue();
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
+}
+
+void RplidarEmulator::HandleInput(const std::vector<uint8_t>& bytes) {
+  received_.insert(received_.end(), bytes.begin(), bytes.end());
+  if (NowS() < deaf_until_s_) return;  // booting: requests are lost
+  input_.insert(input_.end(), bytes.begin(), bytes.end());
+  // Requests: A5 CMD, and for CMD >= 0x80: SIZE PAYLOAD CHECKSUM (XOR of all bytes before).
+  std::size_t at = 0;
+  while (at < input_.size()) {
+    if (input_[at] != 0xA5) {
+      ++at;
+      continue;
+    }
+    if (at + 1 >= input_.size()) break;
+    const uint8_t command = input_[at + 1];
+    if (!(command & 0x80)) {
+      at += 2;
+      commands_.push_back(command);
+      HandleRequest(command, {});
+      if (command == 0x40) {  // rebooting: whatever followed the RESET is lost
+        input_.clear();
+        return;
+      }
+      continue;
+    }
+    if (at + 2 >= input_.size()) break;
+    const std::size_t size = input_[at + 2];
+    if (at + 3 + size + 1 > input_.size()) break;
+    uint8_t checksum = 0;
+    for (std::size_t i = at; i < at + 3 + size; ++i) checksum ^= input_[i];
+    if (checksum != input_[at + 3 + size]) {
+      at += 1;  // not a request after all
+      continue;
+    }
+    const std::vector<uint8_t> payload(input_.begin() + static_cast<std::ptrdiff_t>(at + 3),
+                                       input_.begin() + static_cast<std::ptrdiff_t>(at + 3 + size));
+    at += 3 + size + 1;
+    commands_.push_back(command);
+    HandleRequest(command, payload);
+  }
+  input_.erase(input_.begin(), input_.begin() + static_cast<std::ptrdiff_t>(at));
+}
+
+void RplidarEmulator::HandleRequest(uint8_t command, const std::vector<uint8_t>& payload) {
+  if (options_.wrong_baud) {
+    // At the wrong rate every answer arrives as noise (here: never an A5 byte).
+    std::vector<uint8_t> noise(24);
+    for (uint8_t& b : noise) {
+      noise_state_ = noise_state_ * 1103515245u + 12345u;
+      b = static_cast<uint8_t>(noise_state_ >> 16);
+      if (b == 0xA5) b = 0x5A;
+    }
+    Send(noise);
+    return;
+  }
+  switch (command) {
+    case 0x25:  // STOP
+      stream_ = Stream::kNone;
+      return;
+    case 0x40:  // RESET
+      DoReset();
+      return;
+    case 0x50: {  // GET_INFO: descriptor A5 5A 14 00 00 00 04, then 20 bytes
+      std::vector<uint8_t> answer = {0xA5, 0x5A, 0x14, 0x00, 0x00, 0x00, 0x04};
+      answer.push_back(options_.model_byte);
+      answer.push_back(options_.firmware_minor);
+      answer.push_back(options_.firmware_major);
+      answer.push_back(options_.hardware);
+      for (int i = 0; i < 16; ++i) answer.push_back(static_cast<uint8_t>(0x30 + i));
+      Send(answer);
+      return;
+    }
+    case 0x52: {  // GET_HEALTH: descriptor A5 5A 03 00 00 00 06, status, error code
+      std::vector<uint8_t> answer = {0xA5, 0x5A, 0x03, 0x00, 0x00, 0x00, 0x06};
+      answer.push_back(options_.health_status);
+      PutU16(&answer, options_.health_error_code);
+      Send(answer);
+      return;
+    }
+    case 0x59: {  // GET_SAMPLERATE: descriptor A5 5A 04 00 00 00 15, Tstandard, Texpress
+      std::vector<uint8_t> answer = {0xA5, 0x5A, 0x04, 0x00, 0x00, 0x00, 0x15};
+      PutU16(&answer, options_.standard_sample_us);
+      PutU16(&answer, options_.express_sample_us);
+      Send(answer);
+      return;
+    }
+    case 0x20:                                  // SCAN
+    case 0x21:                                  // FORCE_SCAN
+      if (options_.health_status == 2) return;  // protection stop: no measurements
+      Send({0xA5, 0x5A, 0x05, 0x00, 0x00, 0x40, 0x81});
+      StartStream(Stream::kStandard);
+      return;
+    case 0x82:  // EXPRESS_SCAN
+      if (options_.health_status == 2 || payload.size() != 5) return;
+      if (options_.dense_express) {
+        Send({0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, 0x85});
+        StartStream(Stream::kDense);
+      } else {
+        Send({0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, 0x82});
+        StartStream(Stream::kLegacy);
+      }
+      return;
+    default:  // MOTOR_SPEED_CTRL and the rest: no answer
+      return;
+  }
+}
+
+void RplidarEmulator::DoReset() {
+  ++resets_;
+  stream_ = Stream::kNone;
+  if (!options_.boot_banner.empty()) {
+    Send(std::vector<uint8_t>(options_.boot_banner.begin(), options_.boot_banner.end()));
+  }
+  deaf_until_s_ = NowS() + options_.boot_time_s;
+  if (!options_.health_error_survives_reset) {
+    options_.health_status = 0;
+    options_.health_error_code = 0;
+  }
+}
+
+void RplidarEmulator::StartStream(Stream stream) {
+  ++scans_started_;
+  stream_ = stream;
+  stream_start_s_ = NowS();
+  next_packet_ = 0;
+  Send(options_.garbage_before_first_packet);
+}
+
+double RplidarEmulator::AngleAtSampleDeg(int64_t sample) const {
+  const double period_s =
+      (stream_ == Stream::kStandard ? options_.standard_sample_us : options_.express_sample_us) *
+      1e-6;
+  return std::fmod(options_.start_angle_deg + 360.0 * options_.rotation_hz * period_s * sample,
+                   360.0);
+}
+
+void RplidarEmulator::StreamDue() {
+  const double period_s =
+      (stream_ == Stream::kStandard ? options_.standard_sample_us : options_.express_sample_us) *
+      1e-6;
+  const int per_packet = stream_ == Stream::kStandard ? 1 : stream_ == Stream::kLegacy ? 32 : 40;
+  const double emulated_s = (NowS() - stream_start_s_) * options_.time_scale;
+  const auto measured = static_cast<int64_t>(emulated_s / period_s);
+  // A packet leaves once all of its samples are measured.
+  std::vector<uint8_t> out;
+  while ((next_packet_ + 1) * per_packet <= measured && out.size() < 16384) {
+    const std::vector<uint8_t> packet =
+        stream_ == Stream::kStandard ? StandardNode(next_packet_) : CapsuleAt(next_packet_);
+    out.insert(out.end(), packet.begin(), packet.end());
+    ++next_packet_;
+    ++packets_sent_;
+  }
+  Send(out);
+}
+
+std::vector<uint8_t> RplidarEmulator::StandardNode(int64_t sample) {
+  // Node: [quality:6 | !S | S], [angle_q6[6:0] | C=1], angle_q6[14:7], distance_q2 (16 bits).
+  const int angle_q6 = static_cast<int>(std::lround(AngleAtSampleDeg(sample) * 64.0)) % (360 * 64);
+  const bool start =
+      sample > 0 && AngleAtSampleDeg(sample) < AngleAtSampleDeg(sample - 1);  // passed 0 deg
+  const double range_m = options_.range_m(angle_q6 / 64.0 * M_PI / 180.0);
+  long distance_q2 = std::lround(range_m * 4000.0);
+  if (distance_q2 < 0 || distance_q2 > 0xFFFF) distance_q2 = 0;
+  const uint8_t quality = distance_q2 > 0 ? 47 : 0;
+  std::vector<uint8_t> node;
+  node.push_back(static_cast<uint8_t>((quality << 2) | (start ? 0x01 : 0x02)));
+  node.push_back(static_cast<uint8_t>(((angle_q6 & 0x7F) << 1) | 0x01));
+  node.push_back(static_cast<uint8_t>(angle_q6 >> 7));
+  PutU16(&node, static_cast<unsigned>(distance_q2));
+  return node;
+}
+
+std::vector<uint8_t> RplidarEmulator::CapsuleAt(int64_t capsule) {
+  const bool dense = stream_ == Stream::kDense;
+  const int per_capsule = dense ? 40 : 32;
+  const int64_t first = capsule * per_capsule;
+  // start_angle_q6 of this capsule and the next; samples lie between them (AngleDiff / n).
+  const int start_q6 = static_cast<int>(std::lround(AngleAtSampleDeg(first) * 64.0)) % (360 * 64);
+  const int next_q6 =
+      static_cast<int>(std::lround(AngleAtSampleDeg(first + per_capsule) * 64.0)) % (360 * 64);
+  const double start_deg = start_q6 / 64.0;
+  double diff_deg = next_q6 / 64.0 - start_deg;
+  if (diff_deg < 0) diff_deg += 360.0;
+  std::vector<uint8_t> bytes = {0, 0};
+  PutU16(&bytes, static_cast<unsigned>(start_q6) | (capsule == 0 ? 0x8000u : 0u));
+  std::vector<unsigned> distance_mm(per_capsule);
+  std::vector<unsigned> compensation_six(per_capsule);  // sign bit, then 5 bits of q3
+  for (int k = 0; k < per_capsule; ++k) {
+    const double raw_deg = start_deg + diff_deg * k / per_capsule;
+    const int compensation_q3 = dense ? 0 : CompensationQ3(first + k);
+    // theta_k = omega_i + AngleDiff / n * k - dtheta_k: the angle the sample was taken at.
+    const double angle_deg = std::fmod(raw_deg - compensation_q3 / 8.0 + 360.0, 360.0);
+    const long mm = std::lround(options_.range_m(angle_deg * M_PI / 180.0) * 1000.0);
+    const long limit_mm = dense ? 0xFFFF : 0x3FFF;  // dense: 16 bits; legacy: 14 bits
+    distance_mm[k] = mm < 0 || mm > limit_mm ? 0u : static_cast<unsigned>(mm);
+    compensation_six[k] = (compensation_q3 < 0 ? 0x20u : 0u) |
+                          static_cast<unsigned>(std::abs(compensation_q3) & 0x1F);
+  }
+  if (dense) {
+    for (int k = 0; k < per_capsule; ++k) PutU16(&bytes, distance_mm[k]);
+  } else {
+    // Cabin of two samples: [distance1:14 | dtheta1[5:4]], [distance2:14 | dtheta2[5:4]],
+    // [dtheta2[3:0] : dtheta1[3:0]].
+    for (int k = 0; k < per_capsule; k += 2) {
+      PutU16(&bytes, (distance_mm[k] << 2) | (compensation_six[k] >> 4));
+      PutU16(&bytes, (distance_mm[k + 1] << 2) | (compensation_six[k + 1] >> 4));
+      bytes.push_back(static_cast<uint8_t>((compensation_six[k] & 0x0F) |
+                                           ((compensation_six[k + 1] & 0x0F) << 4)));
+    }
+  }
+  uint8_t checksum = 0;
+  for (std::size_t i = 2; i < bytes.size(); ++i) checksum ^= bytes[i];
+  bytes[0] = static_cast<uint8_t>(0xA0 | (checksum & 0x0F));
+  bytes[1] = static_cast<uint8_t>(0x50 | (checksum >> 4));
+  if (corrupt_next_capsule_) {
+    corrupt_next_capsule_ = false;
+    bytes[40] ^= 0x10;  // after the checksum: the receiver must reject this capsule
+  }
+  return bytes;
+}
+
+}  // namespace aslam

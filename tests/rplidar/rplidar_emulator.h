@@ -1,0 +1,121 @@
+#pragma once
+
+// A Slamtec RPLIDAR emulated on a pseudo-terminal, written from Slamtec's "RPLIDAR
+// Interface Protocol and Application Notes" alone (it shares no code with the driver).
+// It answers GET_INFO, GET_HEALTH, GET_SAMPLERATE, RESET (a boot banner, then deaf for
+// the boot time), STOP, MOTOR_SPEED_CTRL, and streams SCAN nodes or EXPRESS_SCAN
+// capsules (legacy, or dense on S-series) at the model's sample rate from a range
+// function, in its own thread. Faults can be injected: garbage, a capsule with a bad
+// checksum, a health warning or error, a reset mid-scan, an unplug and a replug.
+//
+// The driver is given link_path(): a symlink the emulator re-points on replug, as udev
+// re-points /dev/serial/by-id links.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drivers/io/pseudo_terminal.h"
+
+namespace aslam {
+
+struct RplidarEmulatorOptions {
+  // What GET_INFO reports.
+  uint8_t model_byte = 0x18;
+  uint8_t firmware_major = 1;
+  uint8_t firmware_minor = 29;
+  uint8_t hardware = 7;
+  // What GET_SAMPLERATE reports, and the pace of the streams.
+  uint16_t standard_sample_us = 508;
+  uint16_t express_sample_us = 254;
+  bool dense_express = false;  // EXPRESS_SCAN streams dense capsules (answer type 0x85)
+  double rotation_hz = 5.5;
+  double start_angle_deg = 123.0;  // where the rotor points when a scan starts
+  double time_scale = 1.0;         // emulated seconds per real second
+  double boot_time_s = 0.05;       // after RESET, deaf for this long (real seconds)
+  std::string boot_banner =
+      "RP LIDAR System.\r\nFirmware Ver 1.29 - rc9, HW Ver 7\r\nModel: 18\r\n";
+  // Distance seen at an angle (radians clockwise from the front, as the device measures).
+  // 0 or beyond the packet format's reach = no return.
+  std::function<double(double angle_cw_rad)> range_m = [](double) { return 2.0; };
+  // Every answer arrives garbled, as at a wrong baud rate.
+  bool wrong_baud = false;
+  uint8_t health_status = 0;  // 0 good, 1 warning, 2 error
+  uint16_t health_error_code = 0;
+  bool health_error_survives_reset = false;
+  // Bytes sent between a scan's response descriptor and its first packet.
+  std::vector<uint8_t> garbage_before_first_packet;
+};
+
+// Defaults of a model ("a1", "a2", "a3", "s1", "s2"): identity, sample times, scan rate.
+RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name);
+
+class RplidarEmulator {
+ public:
+  explicit RplidarEmulator(RplidarEmulatorOptions options);
+  ~RplidarEmulator();
+  RplidarEmulator(const RplidarEmulator&) = delete;
+  RplidarEmulator& operator=(const RplidarEmulator&) = delete;
+
+  // The symlink to give the driver (absent while unplugged).
+  const std::string& link_path() const { return link_path_; }
+
+  // Injections, taking effect in the emulator's thread.
+  void InjectGarbage(const std::vector<uint8_t>& bytes);
+  void CorruptNextCapsule();
+  void SetHealth(uint8_t status, uint16_t error_code, bool survives_reset);
+  void ResetNow();  // as if the device browned out: banner, then idle
+  void Unplug();    // both pty ends closed, the link removed
+  void Replug();    // a new pseudo-terminal behind the link
+
+  // Everything the driver wrote, in order, across plugs.
+  std::vector<uint8_t> ReceivedBytes() const;
+  // The commands received (the byte after A5), in order.
+  std::vector<uint8_t> ReceivedCommands() const;
+  int scans_started() const { return scans_started_; }
+  int resets() const { return resets_; }
+  int64_t packets_sent() const { return packets_sent_; }
+
+ private:
+  enum class Stream { kNone, kStandard, kLegacy, kDense };
+  void Run();
+  void PointLink();
+  void Send(const std::vector<uint8_t>& bytes);
+  void HandleInput(const std::vector<uint8_t>& bytes);
+  void HandleRequest(uint8_t command, const std::vector<uint8_t>& payload);
+  void DoReset();
+  void StartStream(Stream stream);
+  void StreamDue();
+  double AngleAtSampleDeg(int64_t sample) const;
+  std::vector<uint8_t> StandardNode(int64_t sample);
+  std::vector<uint8_t> CapsuleAt(int64_t capsule);
+
+  RplidarEmulatorOptions options_;
+  std::string dir_;
+  std::string link_path_;
+  mutable std::mutex mutex_;
+  std::unique_ptr<PseudoTerminal> pty_;
+  std::vector<uint8_t> input_;  // request bytes not yet complete
+  std::vector<uint8_t> received_;
+  std::vector<uint8_t> commands_;
+  std::vector<uint8_t> pending_garbage_;
+  bool corrupt_next_capsule_ = false;
+  bool reset_requested_ = false;
+  double deaf_until_s_ = 0.0;
+  Stream stream_ = Stream::kNone;
+  double stream_start_s_ = 0.0;  // real time the stream started
+  int64_t next_packet_ = 0;
+  uint32_t noise_state_ = 12345;
+  std::atomic<int> scans_started_{0};
+  std::atomic<int> resets_{0};
+  std::atomic<int64_t> packets_sent_{0};
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+}  // namespace aslam
