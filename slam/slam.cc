@@ -358,6 +358,32 @@ ScanUpdate Slam::AddScan(const LidarScan& scan) {
   return update;
 }
 
+Eigen::Matrix3d Slam::FuseWithOdometry(const ScanMatchResult& match, const Pose2d& prediction,
+                                       Pose2d* fused) const {
+  // Odometry's step covariance, along and across the predicted heading, in map axes.
+  const double c = std::cos(prediction.yaw_rad), s = std::sin(prediction.yaw_rad);
+  Eigen::Matrix3d rotation;
+  rotation << c, -s, 0, s, c, 0, 0, 0, 1;
+  const double sigma_m = options_.front_end.odometry_sigma_m;
+  const double sigma_rad = options_.front_end.odometry_sigma_rad;
+  const Eigen::Matrix3d odometry_information =
+      rotation *
+      Eigen::Vector3d(1.0 / (sigma_m * sigma_m), 1.0 / (sigma_m * sigma_m),
+                      1.0 / (sigma_rad * sigma_rad))
+          .asDiagonal() *
+      rotation.transpose();
+  const Eigen::Matrix3d match_information = match.covariance.inverse();
+  const Eigen::Matrix3d covariance = (match_information + odometry_information).inverse();
+  // The information-weighted mean: prediction + Σ·I_match·(match − prediction).
+  const Eigen::Vector3d to_match(match.refined_pose.x_m - prediction.x_m,
+                                 match.refined_pose.y_m - prediction.y_m,
+                                 WrapAngle(match.refined_pose.yaw_rad - prediction.yaw_rad));
+  const Eigen::Vector3d step = covariance * match_information * to_match;
+  *fused =
+      Pose2d{prediction.x_m + step.x(), prediction.y_m + step.y(), prediction.yaw_rad + step.z()};
+  return covariance;
+}
+
 Eigen::Matrix3d Slam::EdgeInformation(const Pose2d& from_pose,
                                       const Eigen::Matrix3d& covariance_map) const {
   // The measurement's translation is expressed in the `from` frame: rotate the
@@ -393,9 +419,11 @@ void Slam::AddKeyframe(const LidarScan& scan, const Pose2d& odom_pose, ScanUpdat
     edge.to_id = id;
     edge.kind = EdgeKind::kOdometry;
     if (match.found && match.response >= options_.front_end.min_response) {
-      pose = match.refined_pose;
-      edge.information = EdgeInformation(previous_pose, match.covariance);
-      latest_covariance_ = match.covariance;
+      // The match's covariance is large along what the scan cannot see (a corridor longer
+      // than the lidar's range): there the odometry prediction decides.
+      const Eigen::Matrix3d covariance = FuseWithOdometry(match, prediction, &pose);
+      edge.information = EdgeInformation(previous_pose, covariance);
+      latest_covariance_ = covariance;
     } else {
       ++counters_.matches_low_response;
       pose = prediction;

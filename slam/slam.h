@@ -191,6 +191,10 @@ class Slam {
   // Optimizes, then removes loop closures that tear the graph; returns false if
   // the closure just added (edge index `new_edge`) had to be removed.
   bool OptimizeAndCheck(std::size_t new_edge, ScanUpdate* update);
+  // The keyframe's pose from the scan match and the odometry prediction, each weighted by its
+  // information (front_end.odometry_sigma_*); returns the fused covariance (map axes).
+  Eigen::Matrix3d FuseWithOdometry(const ScanMatchResult& match, const Pose2d& prediction,
+                                   Pose2d* fused) const;
   Eigen::Matrix3d EdgeInformation(const Pose2d& from_pose,
                                   const Eigen::Matrix3d& covariance_map) const;
   void Drop(DropReason reason) { ++counters_.dropped[static_cast<int>(reason)]; }

@@ -34,7 +34,9 @@ struct FrontEndOptions {
   SearchWindow window{0.3, 0.35};
   // Below this response the match is not trusted and odometry alone places the keyframe.
   double min_response = 0.3;
-  // Information of an odometry-only sequential edge, as standard deviations per keyframe step.
+  // Odometry's uncertainty per keyframe step, as standard deviations: fused with every scan
+  // match (it decides where the scan cannot, e.g. along a corridor longer than the lidar's
+  // range) and the information of an odometry-only sequential edge.
   double odometry_sigma_m = 0.05;
   double odometry_sigma_rad = 0.03;
 };
