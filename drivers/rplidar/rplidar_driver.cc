@@ -21,7 +21,10 @@ using rplidar::HealthStatus;
 using rplidar::Model;
 using rplidar::PacketFormat;
 
-constexpr int kExpressFirmware = 0x0111;  // 1.17
+constexpr int kExpressFirmware = 0x0111;    // 1.17
+constexpr int kLidarConfFirmware = 0x0118;  // 1.24: GET_LIDAR_CONF
+// Old firmware ignores GET_LIDAR_CONF: give up on it soon, as the SDK's probe does (250 ms).
+constexpr double kLidarConfProbeTimeoutS = 0.25;
 // Per-sample angle steps above this are gaps, not sweep (for the coverage check).
 constexpr double kMaxSweepStepDeg = 20.0;
 // A revolution must sweep this much to be published (a resync or restart cuts it short).
@@ -29,10 +32,35 @@ constexpr double kMinRevolutionCoverageDeg = 300.0;
 // More than a turn: a start of revolution was missed (lost packets); the sweep is no scan.
 constexpr double kMaxRevolutionCoverageDeg = 370.0;
 
+bool IsSeriesS(Model model) { return model == Model::kS1 || model == Model::kS2; }
+
 // EXPRESS_SCAN and GET_SAMPLERATE: A-series from firmware 1.17; S-series (whose firmware
 // numbers start again at 1.0x) always.
 bool HasExpressScan(Model model, const rplidar::DeviceInfo& info) {
-  return model == Model::kS1 || model == Model::kS2 || info.FirmwareNumber() >= kExpressFirmware;
+  return IsSeriesS(model) || info.FirmwareNumber() >= kExpressFirmware;
+}
+
+bool IsListedModeName(const std::string& scan_mode) {
+  const auto& names = rplidar::KnownScanModeNames();
+  return std::find(names.begin(), names.end(), scan_mode) != names.end();
+}
+
+bool IsValidScanMode(const std::string& scan_mode) {
+  return scan_mode == "auto" || scan_mode == "standard" || scan_mode == "express" ||
+         IsListedModeName(scan_mode);
+}
+
+std::string ScanModeChoices() {
+  std::string text = "standard, express, auto";
+  for (const std::string& name : rplidar::KnownScanModeNames()) text += ", " + name;
+  return text;
+}
+
+// The device's mode list is wanted for a mode named by the user, or for auto on A-series
+// firmware that has GET_LIDAR_CONF (S-series keep their per-model DenseBoost choice).
+bool WantsScanModes(const std::string& scan_mode, Model model, const rplidar::DeviceInfo& info) {
+  if (IsListedModeName(scan_mode)) return true;
+  return scan_mode == "auto" && !IsSeriesS(model) && info.FirmwareNumber() >= kLidarConfFirmware;
 }
 
 void SleepS(double seconds) {
@@ -77,9 +105,7 @@ RplidarOptions LoadRplidarOptions(const ConfigReader& c) {
     c.Fail("model", "must be one of a1, a2, a3, s1, s2, auto");
   }
   c.Read("scan_mode", &o.scan_mode);
-  if (o.scan_mode != "auto" && o.scan_mode != "standard" && o.scan_mode != "express") {
-    c.Fail("scan_mode", "must be one of standard, express, auto");
-  }
+  if (!IsValidScanMode(o.scan_mode)) c.Fail("scan_mode", "must be one of " + ScanModeChoices());
   c.ReadInRange("beams_per_revolution", &o.beams_per_revolution, 0, 100000);
   c.ReadInRange("range_min_m", &o.range_min_m, 0.0, 100.0);
   c.ReadInRange("range_max_m", &o.range_max_m, 0.0, 100.0);
@@ -119,9 +145,9 @@ void ValidateRplidarOptions(const RplidarOptions& o) {
   if (o.model != "auto" && !rplidar::ParseModelName(o.model)) {
     throw std::invalid_argument("model '" + o.model + "' is not one of a1, a2, a3, s1, s2, auto");
   }
-  if (o.scan_mode != "auto" && o.scan_mode != "standard" && o.scan_mode != "express") {
-    throw std::invalid_argument("scan_mode '" + o.scan_mode +
-                                "' is not one of standard, express, auto");
+  if (!IsValidScanMode(o.scan_mode)) {
+    throw std::invalid_argument("scan_mode '" + o.scan_mode + "' is not one of " +
+                                ScanModeChoices());
   }
   if (o.reconnect_backoff_initial_s <= 0 ||
       o.reconnect_backoff_max_s < o.reconnect_backoff_initial_s) {
@@ -194,9 +220,17 @@ std::optional<rplidar::ResponseDescriptor> RplidarDriver::WaitDescriptor(double 
 std::optional<std::vector<uint8_t>> RplidarDriver::Request(uint8_t command, uint8_t data_type,
                                                            std::size_t min_length,
                                                            std::size_t* noise_bytes) {
-  Send(rplidar::EncodeRequest(command));
-  const int64_t deadline =
-      HostClockUtime() + static_cast<int64_t>(options_.response_timeout_s * 1e6);
+  return Request(rplidar::EncodeRequest(command), data_type, min_length, noise_bytes);
+}
+
+std::optional<std::vector<uint8_t>> RplidarDriver::Request(const std::vector<uint8_t>& request,
+                                                           uint8_t data_type,
+                                                           std::size_t min_length,
+                                                           std::size_t* noise_bytes,
+                                                           double timeout_s) {
+  Send(request);
+  if (timeout_s <= 0) timeout_s = options_.response_timeout_s;
+  const int64_t deadline = HostClockUtime() + static_cast<int64_t>(timeout_s * 1e6);
   for (;;) {
     const double left_s = (deadline - HostClockUtime()) * 1e-6;
     if (left_s <= 0) return std::nullopt;
@@ -316,6 +350,83 @@ void RplidarDriver::Connect() {
            ": no answer to GET_SAMPLERATE; assuming 476 us per sample");
     }
   }
+
+  c.scan_modes.clear();
+  c.typical_scan_mode.reset();
+  if (WantsScanModes(options_.scan_mode, c.model, c.info)) ListScanModes();
+}
+
+std::optional<std::vector<uint8_t>> RplidarDriver::GetLidarConf(
+    uint32_t type, std::optional<uint16_t> scan_mode_id, double timeout_s) {
+  std::size_t noise = 0;
+  const auto data = Request(rplidar::EncodeGetLidarConfRequest(type, scan_mode_id),
+                            rplidar::answer::kLidarConf, 4, &noise, timeout_s);
+  if (!data) return std::nullopt;
+  return rplidar::ParseLidarConfValue(type, data->data(), data->size());
+}
+
+void RplidarDriver::ListScanModes() {
+  namespace conf = rplidar::lidar_conf;
+  RplidarConnection& c = connection_;
+  const auto give_up = [&](const std::string& why) {
+    log_("aslam-rplidar: " + stream_.name() + ": " + why + "; using the model's scan mode choice");
+    c.scan_modes.clear();
+    c.typical_scan_mode.reset();
+    // A late or partial answer must not be taken for the scan's response descriptor.
+    stream_.DiscardInput();
+    rx_.clear();
+  };
+  const double probe_timeout_s = std::min(options_.response_timeout_s, kLidarConfProbeTimeoutS);
+  const auto count_value = GetLidarConf(conf::kScanModeCount, std::nullopt, probe_timeout_s);
+  const auto count = count_value ? rplidar::LidarConfUnsigned(*count_value, 2) : std::nullopt;
+  if (!count || *count == 0) {
+    give_up("no valid answer to GET_LIDAR_CONF (scan mode count)");
+    return;
+  }
+  std::vector<rplidar::ScanMode> modes;
+  for (uint32_t id = 0; id < *count; ++id) {
+    const auto mode_id = static_cast<uint16_t>(id);
+    const auto us = GetLidarConf(conf::kScanModeUsPerSample, mode_id, 0.0);
+    const auto max_distance = GetLidarConf(conf::kScanModeMaxDistance, mode_id, 0.0);
+    const auto answer_type = GetLidarConf(conf::kScanModeAnswerType, mode_id, 0.0);
+    const auto name = GetLidarConf(conf::kScanModeName, mode_id, 0.0);
+    if (!us || !max_distance || !answer_type || !name) {
+      give_up("no answer to GET_LIDAR_CONF for scan mode " + std::to_string(id));
+      return;
+    }
+    const std::optional<double> us_value = rplidar::LidarConfQ8(*us);
+    const std::optional<double> max_value = rplidar::LidarConfQ8(*max_distance);
+    const std::optional<uint32_t> type_value = rplidar::LidarConfUnsigned(*answer_type, 1);
+    if (!us_value || *us_value <= 0 || !max_value || !type_value) {
+      give_up("malformed GET_LIDAR_CONF answers for scan mode " + std::to_string(id));
+      return;
+    }
+    rplidar::ScanMode mode;
+    mode.id = mode_id;
+    mode.us_per_sample = *us_value;
+    mode.max_distance_m = *max_value;
+    mode.answer_type = static_cast<uint8_t>(*type_value);
+    mode.name = rplidar::LidarConfText(*name);
+    modes.push_back(mode);
+  }
+  const auto typical_value = GetLidarConf(conf::kScanModeTypical, std::nullopt, 0.0);
+  const auto typical = typical_value ? rplidar::LidarConfUnsigned(*typical_value, 2) : std::nullopt;
+  if (!typical || *typical >= *count) {
+    give_up("no valid typical scan mode in GET_LIDAR_CONF");
+    return;
+  }
+  c.scan_modes = std::move(modes);
+  c.typical_scan_mode = static_cast<uint16_t>(*typical);
+  std::string listing;
+  for (const rplidar::ScanMode& mode : c.scan_modes) {
+    char entry[160];
+    std::snprintf(entry, sizeof(entry), "%s%s (id %u, %.1f us, %.1f m, answer 0x%02X)",
+                  listing.empty() ? "" : ", ", mode.name.c_str(), mode.id, mode.us_per_sample,
+                  mode.max_distance_m, mode.answer_type);
+    listing += entry;
+  }
+  log_("aslam-rplidar: " + stream_.name() + ": scan modes " + listing + "; typical " +
+       c.scan_modes[*c.typical_scan_mode].name);
 }
 
 void RplidarDriver::MotorOn() {
@@ -333,16 +444,58 @@ void RplidarDriver::MotorOn() {
 void RplidarDriver::StartStream() {
   RplidarConnection& c = connection_;
   const rplidar::ModelDefaults& model = DefaultsFor(c.model);
-  const bool has_express = HasExpressScan(c.model, c.info);
-  bool express = options_.scan_mode == "express" || (options_.scan_mode == "auto" && has_express);
-  if (express && !has_express) {
-    Fail("firmware " + c.info.FirmwareText() +
-         " has no EXPRESS_SCAN (it needs 1.17 or later): set scan_mode standard");
+  // A mode of the device's list to scan in: the one named, or for auto the typical one.
+  const rplidar::ScanMode* listed = nullptr;
+  if (IsListedModeName(options_.scan_mode)) {
+    if (c.scan_modes.empty()) {
+      Fail("scan_mode " + options_.scan_mode + " needs a lidar that lists its scan modes " +
+           "(GET_LIDAR_CONF, A-series firmware 1.24 or later), and this one (firmware " +
+           c.info.FirmwareText() + ") did not: set scan_mode standard, express or auto");
+    }
+    std::string names;
+    for (const rplidar::ScanMode& mode : c.scan_modes) {
+      if (rplidar::ScanModeNameMatches(mode.name, options_.scan_mode)) listed = &mode;
+      names += (names.empty() ? "" : ", ") + mode.name;
+    }
+    if (!listed) {
+      Fail("scan_mode " + options_.scan_mode + " is not among the lidar's scan modes (" + names +
+           ")");
+    }
+  } else if (options_.scan_mode == "auto" && c.typical_scan_mode) {
+    listed = &c.scan_modes[*c.typical_scan_mode];
+  }
+
+  bool express = false;
+  std::vector<uint8_t> request;
+  std::optional<uint8_t> expected_type;  // a listed mode says how it answers
+  double period_us = 0.0;
+  double mode_max_distance_m = 0.0;
+  if (listed) {
+    if (!rplidar::PacketFormatForAnswer(listed->answer_type)) {
+      Fail("scan mode " + listed->name + " answers with data type " + Hex({listed->answer_type}) +
+           ", which this driver does not decode: choose another " + "scan_mode");
+    }
+    // The SDK starts a mode answering with plain nodes by SCAN, any other by EXPRESS_SCAN.
+    express = listed->answer_type != rplidar::answer::kMeasurement;
+    request = express ? rplidar::EncodeExpressScanRequest(static_cast<uint8_t>(listed->id))
+                      : rplidar::EncodeRequest(rplidar::command::kScan);
+    expected_type = listed->answer_type;
+    period_us = listed->us_per_sample;
+    mode_max_distance_m = listed->max_distance_m;
+    c.scan_mode_name = listed->name;
+  } else {
+    const bool has_express = HasExpressScan(c.model, c.info);
+    express = options_.scan_mode == "express" || (options_.scan_mode == "auto" && has_express);
+    if (express && !has_express) {
+      Fail("firmware " + c.info.FirmwareText() +
+           " has no EXPRESS_SCAN (it needs 1.17 or later): set scan_mode standard");
+    }
+    request = express ? rplidar::EncodeExpressScanRequest(model.express_working_mode)
+                      : rplidar::EncodeRequest(rplidar::command::kScan);
+    period_us = express ? c.sample_rate.express_us : c.sample_rate.standard_us;
+    c.scan_mode_name = express ? "express" : "standard";
   }
   MotorOn();
-  const std::vector<uint8_t> request =
-      express ? rplidar::EncodeExpressScanRequest(model.express_working_mode)
-              : rplidar::EncodeRequest(rplidar::command::kScan);
   Send(request);
   std::size_t noise = 0;
   const auto descriptor = WaitDescriptor(options_.response_timeout_s, &noise);
@@ -350,20 +503,19 @@ void RplidarDriver::StartStream() {
   const auto format = rplidar::PacketFormatForAnswer(descriptor->data_type);
   if (!format) {
     Fail("answered " + Hex(request) + " with data type " + Hex({descriptor->data_type}) +
-         (descriptor->data_type == rplidar::answer::kUltraCapsuled
-              ? " (ultra capsules), which this driver does not decode: set scan_mode standard"
-              : ", which is not a scan answer"));
+         ", which is not a scan answer this driver decodes");
   }
-  const std::size_t expected_length =
-      *format == PacketFormat::kStandardNodes ? rplidar::kNodeSize : rplidar::kCapsuleSize;
+  std::size_t expected_length = rplidar::kCapsuleSize;
+  if (*format == PacketFormat::kStandardNodes) expected_length = rplidar::kNodeSize;
+  if (*format == PacketFormat::kUltraCapsules) expected_length = rplidar::kUltraCapsuleSize;
   if (descriptor->send_mode != rplidar::SendMode::kMultiple ||
       descriptor->length != expected_length ||
-      (!express && *format != PacketFormat::kStandardNodes)) {
+      (!express && *format != PacketFormat::kStandardNodes) ||
+      (expected_type && descriptor->data_type != *expected_type)) {
     Fail("unexpected response descriptor to " + Hex(request) + ": " +
          Hex(rplidar::EncodeDescriptor(*descriptor)));
   }
   c.format = *format;
-  const int period_us = express ? c.sample_rate.express_us : c.sample_rate.standard_us;
   c.sample_period_s = period_us * 1e-6;
   if (options_.beams_per_revolution > 0) {
     c.beams_per_revolution = options_.beams_per_revolution;
@@ -374,6 +526,8 @@ void RplidarDriver::StartStream() {
   }
   c.range_min_m = options_.range_min_m > 0 ? options_.range_min_m : model.range_min_m;
   c.range_max_m = options_.range_max_m > 0 ? options_.range_max_m : model.range_max_m;
+  // A listed mode knows its own reach (A3: 25 m in Sensitivity, 16 m in Standard).
+  if (options_.range_max_m <= 0 && mode_max_distance_m > 0) c.range_max_m = mode_max_distance_m;
 
   if (parser_) {
     stats_.checksum_errors += parser_->checksum_errors();
@@ -403,12 +557,13 @@ void RplidarDriver::Start() {
   char line[512];
   std::snprintf(line, sizeof(line),
                 "aslam-rplidar: %s: RPLIDAR %s (model byte 0x%02X, firmware %s, hardware %u, "
-                "serial %s), health %s, %s at %.0f us per sample, %d beams per revolution, "
-                "%d baud",
+                "serial %s), health %s, scan mode %s: %s at %.1f us per sample, %d beams per "
+                "revolution, %d baud",
                 stream_.name().c_str(), rplidar::ModelName(c.model), c.info.model,
                 c.info.FirmwareText().c_str(), c.info.hardware, c.info.SerialText().c_str(),
-                rplidar::HealthStatusName(c.health.status), rplidar::PacketFormatName(c.format),
-                c.sample_period_s * 1e6, c.beams_per_revolution, baud_);
+                rplidar::HealthStatusName(c.health.status), c.scan_mode_name.c_str(),
+                rplidar::PacketFormatName(c.format), c.sample_period_s * 1e6,
+                c.beams_per_revolution, baud_);
   log_(line);
 }
 

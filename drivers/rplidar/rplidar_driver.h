@@ -25,11 +25,13 @@ struct RplidarOptions {
   std::string port = "/dev/rplidar";  // the udev link of the README
   int baud = 0;                       // 0 = the model's (115200 when model is auto)
   std::string model = "auto";         // a1, a2, a3, s1, s2, or auto (from GET_INFO)
-  std::string scan_mode = "auto";     // standard (SCAN), express (EXPRESS_SCAN), auto
-  int beams_per_revolution = 0;       // 0 = samples per revolution at the nominal scan rate
-  double range_min_m = 0.0;           // 0 = the model's
-  double range_max_m = 0.0;           // 0 = the model's
-  int motor_rpm = 600;                // S1/S2 MOTOR_SPEED_CTRL speed (600 rpm = 10 Hz)
+  // standard (SCAN), express (legacy EXPRESS_SCAN), auto (the device's typical mode where it
+  // lists its modes, else the model's), or a listed mode's name: boost, sensitivity, ...
+  std::string scan_mode = "auto";
+  int beams_per_revolution = 0;  // 0 = samples per revolution at the nominal scan rate
+  double range_min_m = 0.0;      // 0 = the model's
+  double range_max_m = 0.0;      // 0 = the model's
+  int motor_rpm = 600;           // S1/S2 MOTOR_SPEED_CTRL speed (600 rpm = 10 Hz)
   double reconnect_backoff_initial_s = 0.5;
   double reconnect_backoff_max_s = 8.0;
   double reset_wait_s = 2.0;        // after RESET before talking again (an S1 needs 2 s)
@@ -54,6 +56,10 @@ struct RplidarConnection {
   rplidar::Model model = rplidar::Model::kUnknown;
   rplidar::DeviceHealth health;
   rplidar::SampleRate sample_rate;
+  // GET_LIDAR_CONF's scan modes (empty when not asked or not answered) and the typical one.
+  std::vector<rplidar::ScanMode> scan_modes;
+  std::optional<uint16_t> typical_scan_mode;
+  std::string scan_mode_name;  // the mode scanning: a listed name, or standard/express
   rplidar::PacketFormat format = rplidar::PacketFormat::kStandardNodes;
   double sample_period_s = 0.0;
   int beams_per_revolution = 0;
@@ -81,7 +87,8 @@ class RplidarDriver {
                 Log log = {});
 
   // STOP, flush, GET_INFO, GET_HEALTH (RESET on an error, then give up if it stays),
-  // GET_SAMPLERATE, motor on, SCAN or EXPRESS_SCAN. Throws DeviceError naming the port.
+  // GET_SAMPLERATE, GET_LIDAR_CONF (scan modes, A-series 1.24+), motor on, SCAN or
+  // EXPRESS_SCAN in the chosen mode. Throws DeviceError naming the port.
   void Start();
   // Reads for at most `timeout_ms` and appends finished revolutions to *scans. Restarts a
   // scan that stalled (a device reset); throws DeviceError when the device is gone.
@@ -108,9 +115,20 @@ class RplidarDriver {
   void Send(const std::vector<uint8_t>& request);
   // Reads what arrives within timeout_ms into rx_; returns the byte count.
   std::size_t ReadIntoBuffer(int timeout_ms);
-  // Waits for a descriptor of `data_type` and its `min_length` data bytes (single answers).
+  // Sends `request`, waits for a descriptor of `data_type` and its `min_length` data bytes
+  // (single answers) for at most timeout_s (0 = response_timeout_s).
+  std::optional<std::vector<uint8_t>> Request(const std::vector<uint8_t>& request,
+                                              uint8_t data_type, std::size_t min_length,
+                                              std::size_t* noise_bytes, double timeout_s = 0.0);
   std::optional<std::vector<uint8_t>> Request(uint8_t command, uint8_t data_type,
                                               std::size_t min_length, std::size_t* noise_bytes);
+  // One GET_LIDAR_CONF value; nullopt without a valid answer.
+  std::optional<std::vector<uint8_t>> GetLidarConf(uint32_t type,
+                                                   std::optional<uint16_t> scan_mode_id,
+                                                   double timeout_s);
+  // Fills connection_.scan_modes and typical_scan_mode; leaves them empty when the device
+  // does not answer (old firmware) or answers wrong.
+  void ListScanModes();
   std::optional<rplidar::ResponseDescriptor> WaitDescriptor(double timeout_s,
                                                             std::size_t* noise_bytes);
   void StopAndFlush();

@@ -11,7 +11,9 @@
 DEFINE_string(port, "", "serial port, e.g. /dev/rplidar or /dev/ttyUSB0 (default: rplidar.port)");
 DEFINE_int32(baud, -1, "baud rate; 0 = the model's default (default: rplidar.baud)");
 DEFINE_string(model, "", "a1, a2, a3, s1, s2 or auto (default: rplidar.model)");
-DEFINE_string(scan_mode, "", "standard, express or auto (default: rplidar.scan_mode)");
+DEFINE_string(scan_mode, "",
+              "standard, express, auto, or a listed mode: boost, sensitivity, stability, "
+              "denseboost (default: rplidar.scan_mode)");
 DEFINE_string(config, "", "config file with an `rplidar:` section (default: built-in defaults)");
 DEFINE_string(lcm_url, "", "LCM URL (default: $LCM_DEFAULT_URL, else udpm with ttl=0)");
 DEFINE_int32(attempts, 0, "failed connection attempts in a row before exiting; 0 = never exit");
@@ -19,7 +21,7 @@ DEFINE_int32(attempts, 0, "failed connection attempts in a row before exiting; 0
 int main(int argc, char** argv) {
   aslam::ParseFlags(&argc, &argv,
                     "aslam-rplidar [--port PATH] [--baud N] [--model a1|a2|a3|s1|s2|auto]\n"
-                    "              [--scan_mode standard|express|auto] [--config FILE] "
+                    "              [--scan_mode standard|express|auto|boost|...] [--config FILE] "
                     "[--lcm_url URL]");
   if (argc > 1) {
     std::fprintf(stderr, "aslam-rplidar: unexpected argument '%s' (see --help)\n", argv[1]);

@@ -32,7 +32,7 @@ inline constexpr uint8_t kExpressScan = 0x82;  // firmware >= 1.17
 inline constexpr uint8_t kGetInfo = 0x50;
 inline constexpr uint8_t kGetHealth = 0x52;
 inline constexpr uint8_t kGetSampleRate = 0x59;   // firmware >= 1.17
-inline constexpr uint8_t kGetLidarConf = 0x84;    // firmware >= 1.24 (not used by this driver)
+inline constexpr uint8_t kGetLidarConf = 0x84;    // firmware >= 1.24: scan modes and their traits
 inline constexpr uint8_t kMotorSpeedCtrl = 0xA8;  // S-series: motor speed in rpm
 }  // namespace command
 
@@ -44,7 +44,7 @@ inline constexpr uint8_t kSampleRate = 0x15;
 inline constexpr uint8_t kLidarConf = 0x20;
 inline constexpr uint8_t kMeasurement = 0x81;    // SCAN: 5-byte nodes
 inline constexpr uint8_t kCapsuled = 0x82;       // EXPRESS_SCAN legacy: 84-byte capsules
-inline constexpr uint8_t kUltraCapsuled = 0x84;  // A-series boost modes (not decoded)
+inline constexpr uint8_t kUltraCapsuled = 0x84;  // A-series Boost/Sensitivity/Stability: 132 bytes
 inline constexpr uint8_t kDenseCapsuled = 0x85;  // S-series DenseBoost: 84-byte capsules
 }  // namespace answer
 
@@ -53,7 +53,19 @@ inline constexpr std::size_t kDeviceInfoSize = 20;
 inline constexpr std::size_t kDeviceHealthSize = 3;
 inline constexpr std::size_t kSampleRateSize = 4;
 inline constexpr std::size_t kNodeSize = 5;
-inline constexpr std::size_t kCapsuleSize = 84;  // legacy and dense alike
+inline constexpr std::size_t kCapsuleSize = 84;        // legacy and dense alike
+inline constexpr std::size_t kUltraCapsuleSize = 132;  // 4 header bytes, 32 cabins of 4 bytes
+inline constexpr std::size_t kUltraCabins = 32;
+
+// GET_LIDAR_CONF configuration types (the request's first 4 payload bytes, echoed in the answer).
+namespace lidar_conf {
+inline constexpr uint32_t kScanModeCount = 0x70;        // u16: modes, ids 0..count-1
+inline constexpr uint32_t kScanModeUsPerSample = 0x71;  // u32 Q8 microseconds, per mode id
+inline constexpr uint32_t kScanModeMaxDistance = 0x74;  // u32 Q8 meters, per mode id
+inline constexpr uint32_t kScanModeAnswerType = 0x75;   // u8 scan answer data type, per mode id
+inline constexpr uint32_t kScanModeTypical = 0x7C;      // u16: the recommended mode id
+inline constexpr uint32_t kScanModeName = 0x7F;         // text, per mode id
+}  // namespace lidar_conf
 
 // A request: `command` alone when `payload` is empty, else with size, payload and checksum.
 std::vector<uint8_t> EncodeRequest(uint8_t command, const std::vector<uint8_t>& payload = {});
@@ -61,6 +73,9 @@ std::vector<uint8_t> EncodeRequest(uint8_t command, const std::vector<uint8_t>& 
 std::vector<uint8_t> EncodeExpressScanRequest(uint8_t working_mode);
 // MOTOR_SPEED_CTRL (0xA8) with the speed in rpm (0 stops the motor).
 std::vector<uint8_t> EncodeMotorSpeedRequest(uint16_t rpm);
+// GET_LIDAR_CONF: the 32-bit type, then for per-mode types the 16-bit scan mode id.
+std::vector<uint8_t> EncodeGetLidarConfRequest(uint32_t type,
+                                               std::optional<uint16_t> scan_mode_id = std::nullopt);
 
 // ---- Responses.
 enum class SendMode : uint8_t { kSingle = 0, kMultiple = 1 };
@@ -101,6 +116,30 @@ struct SampleRate {
 };
 std::optional<SampleRate> ParseSampleRate(const uint8_t* data, std::size_t size);
 
+// GET_LIDAR_CONF answer data (type 0x20): the echoed type, then the value. Returns the value;
+// nullopt when the echo is not `type` or no value follows it.
+std::optional<std::vector<uint8_t>> ParseLidarConfValue(uint32_t type, const uint8_t* data,
+                                                        std::size_t size);
+// The value's first `bytes` bytes as a little-endian unsigned; nullopt when it is shorter.
+std::optional<uint32_t> LidarConfUnsigned(const std::vector<uint8_t>& value, std::size_t bytes);
+// A 32-bit Q8 fixed-point value (microseconds per sample, meters).
+std::optional<double> LidarConfQ8(const std::vector<uint8_t>& value);
+// A text value, up to its first NUL.
+std::string LidarConfText(const std::vector<uint8_t>& value);
+
+// A scan mode as GET_LIDAR_CONF describes it; `id` is EXPRESS_SCAN's working mode.
+struct ScanMode {
+  uint16_t id = 0;
+  std::string name;  // "Standard", "Express", "Boost", "Sensitivity", "Stability", "DenseBoost"
+  double us_per_sample = 0.0;
+  double max_distance_m = 0.0;
+  uint8_t answer_type = 0;  // 0x81 nodes, 0x82 legacy, 0x84 ultra, 0x85 dense capsules
+};
+// Case-insensitive and blind to spaces, '-' and '_': "DenseBoost" matches "denseboost".
+bool ScanModeNameMatches(const std::string& device_name, const std::string& wanted);
+// Slamtec's scan mode names, lower case: what scan_mode accepts besides standard/express/auto.
+const std::vector<std::string>& KnownScanModeNames();
+
 // ---- Models.
 enum class Model { kA1, kA2, kA3, kS1, kS2, kUnknown };
 
@@ -139,7 +178,7 @@ struct ScanSample {
   uint64_t slot = 0;
 };
 
-enum class PacketFormat { kStandardNodes, kLegacyCapsules, kDenseCapsules };
+enum class PacketFormat { kStandardNodes, kLegacyCapsules, kDenseCapsules, kUltraCapsules };
 // The format a scan response descriptor's data type announces; nullopt for types not decoded.
 std::optional<PacketFormat> PacketFormatForAnswer(uint8_t data_type);
 const char* PacketFormatName(PacketFormat format);
@@ -165,7 +204,7 @@ class ScanStreamParser {
   struct Capsule {
     uint16_t start_angle_q6 = 0;
     bool start_flag = false;
-    std::array<uint8_t, kCapsuleSize> bytes{};
+    std::array<uint8_t, kUltraCapsuleSize> bytes{};  // the first PacketSize() are used
     uint64_t end_offset = 0;
     uint64_t first_slot = 0;
   };
@@ -174,9 +213,10 @@ class ScanStreamParser {
   // Tries to take one packet at the front of the buffer: true if it consumed bytes.
   bool TakeNode(std::vector<ScanSample>* out);
   bool TakeCapsule(std::vector<ScanSample>* out);
-  // Decodes the cached capsule with the start angle of the one after it.
-  void DecodeCached(uint16_t next_start_angle_q6, int capsules_spanned,
-                    std::vector<ScanSample>* out);
+  // Decodes the cached capsule with the start angle of the one after it and, for ultra
+  // capsules, that one's first major (nullopt when a capsule was lost in between).
+  void DecodeCached(uint16_t next_start_angle_q6, std::optional<uint16_t> next_first_major,
+                    int capsules_spanned, std::vector<ScanSample>* out);
   void Discard(std::size_t count);
   void AccountLostPackets();
 
@@ -197,5 +237,25 @@ class ScanStreamParser {
 // ---- Field codecs, shared by the parser and its tests.
 // The 6-bit angle compensation of a legacy cabin, q3 degrees; the top bit is the sign.
 double CabinAngleCompensationDeg(uint8_t six_bits);
+
+// Ultra cabins (answer type 0x84), after Slamtec's rplidar_sdk (sl_lidar_cmd.h, the protocol
+// document defers to it): a little-endian u32 of | predict2:10 | predict1:10 | major:12 |.
+// The 12-bit major in the variable bit scale: 0..511 as is, then steps of 2 from 512 mm
+// (raw 512), 4 from 2048 (raw 1280), 8 from 4096 (raw 1792), 16 from 16384 mm (raw 3328).
+struct VarBitScaleValue {
+  uint32_t distance_mm = 0;
+  int scale_shift = 0;  // log2 of the step, which also scales the predicts based on it
+};
+VarBitScaleValue DecodeVarBitScale(uint16_t major12);
+// The cabin's three distances (mm, 0 = no return): the major; predict1 << shift added to the
+// major (or to the next cabin's major when this one is 0 and that one is not); predict2 <<
+// shift added to the next cabin's major. Predicts are signed 10-bit; -512 and +511 mark a
+// sample without a return, as does a negative sum. `next_major12` nullopt: the next cabin was
+// lost, so samples based on it are unknown (0).
+std::array<uint32_t, 3> DecodeUltraCabin(uint32_t combined, std::optional<uint16_t> next_major12);
+// The mean angle offset (degrees) an ultra sample's raw angle is reduced by, from its distance:
+// 7.5 below 50 mm, else 8 deg - (64 k + floor(k^3 / 98304)) / 65536 rad with
+// k = floor(98361 / (4 * distance_mm)), as rplidar_sdk's _ultraCapsuleToNormal computes it.
+double UltraCabinAngleOffsetDeg(uint32_t distance_mm);
 
 }  // namespace aslam::rplidar

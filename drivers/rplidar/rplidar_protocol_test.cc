@@ -1,8 +1,12 @@
 // Expected bytes and values are worked out by hand from Slamtec's "RPLIDAR Interface
-// Protocol and Application Notes" (request and answer layouts, the capsule angle formula).
+// Protocol and Application Notes" (request and answer layouts, the capsule angle formula)
+// and, for ultra cabins, the rplidar_sdk the document refers to (sl_lidar_cmd.h: the cabin
+// layout and the variable bit scale; sl_lidar_driver.cpp: predicts, escapes, angle offset).
 
 #include "drivers/rplidar/rplidar_protocol.h"
 
+#include <array>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -295,6 +299,219 @@ TEST(RplidarStreamParser, ByteByByteFeedingMatches) {
   for (const uint8_t b : stream) parser.Feed(&b, 1, &samples);
   ASSERT_EQ(samples.size(), 64u);
   EXPECT_DOUBLE_EQ(samples[32].angle_cw_deg, 26.0);
+}
+
+// ---- Ultra capsules (answer type 0x84).
+
+// An ultra cabin word: | predict2:10 | predict1:10 | major:12 |, predicts in two's complement.
+uint32_t UltraCabin(uint32_t major, int predict1, int predict2) {
+  return (major & 0xFFF) | ((static_cast<uint32_t>(predict1) & 0x3FF) << 12) |
+         ((static_cast<uint32_t>(predict2) & 0x3FF) << 22);
+}
+
+// A 132-byte ultra capsule: sync nibbles over the XOR checksum of bytes 2..131, the angle
+// word (S in bit 15), then 32 little-endian cabin words (missing ones zero).
+Bytes UltraCapsule(uint16_t start_angle_q6, const std::vector<uint32_t>& cabins,
+                   bool start_flag = false) {
+  Bytes c(kUltraCapsuleSize, 0);
+  const uint16_t word = static_cast<uint16_t>(start_angle_q6 | (start_flag ? 0x8000 : 0));
+  c[2] = static_cast<uint8_t>(word & 0xFF);
+  c[3] = static_cast<uint8_t>(word >> 8);
+  for (std::size_t i = 0; i < cabins.size(); ++i) {
+    for (int b = 0; b < 4; ++b) c[4 + 4 * i + b] = static_cast<uint8_t>(cabins[i] >> (8 * b));
+  }
+  uint8_t checksum = 0;
+  for (std::size_t i = 2; i < c.size(); ++i) checksum ^= c[i];
+  c[0] = static_cast<uint8_t>(0xA0 | (checksum & 0x0F));
+  c[1] = static_cast<uint8_t>(0x50 | (checksum >> 4));
+  return c;
+}
+
+TEST(RplidarUltraCabins, VarBitScaleBandEdges) {
+  const auto expect = [](uint16_t raw, uint32_t mm, int shift) {
+    const VarBitScaleValue v = DecodeVarBitScale(raw);
+    EXPECT_EQ(v.distance_mm, mm) << raw;
+    EXPECT_EQ(v.scale_shift, shift) << raw;
+  };
+  expect(0, 0, 0);
+  expect(511, 511, 0);     // as is below 512
+  expect(512, 512, 1);     // x2 from code 512 = 512 mm
+  expect(1279, 2046, 1);   // 512 + 767 * 2
+  expect(1280, 2048, 2);   // x4 from code 1280 = 2048 mm
+  expect(1791, 4092, 2);   // 2048 + 511 * 4
+  expect(1792, 4096, 3);   // x8 from code 1792 = 4096 mm
+  expect(3327, 16376, 3);  // 4096 + 1535 * 8
+  expect(3328, 16384, 4);  // x16 from code 3328 = 16384 mm
+  expect(4095, 28656, 4);  // 16384 + 767 * 16: the farthest
+}
+
+TEST(RplidarUltraCabins, MajorAndPredictBranches) {
+  using D = std::array<uint32_t, 3>;
+  // Major 1000 = 512 + 488 * 2 = 1488 mm (x2); predict1 +5 * 2 on it; predict2 -3 * 1 on the
+  // next major 300 (x1).
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(1000, 5, -3), 300), (D{1488, 1498, 297}));
+  // The escapes +511 and -512: no return.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(300, 511, -512), 0), (D{300, 0, 0}));
+  // Major 0 (no return) with a next major 1500 = 2048 + 220 * 4 = 2928 (x4): both predicts
+  // count from it, +7 * 4 and -1 * 4.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(0, 7, -1), 1500), (D{0, 2956, 2924}));
+  // Major 0 and next major 0: predicts count from 0 mm in steps of 1.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(0, 3, 0), 0), (D{0, 3, 0}));
+  // A negative sum (10 - 20) is no return; predict2 +5 on the next major 0.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(10, -20, 5), 0), (D{10, 0, 5}));
+  // x16 band: 3328 + 100 -> 17984 mm, -1 * 16; predict2 +2 * 8 on 2000 = 4096 + 208 * 8 = 5760.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(3428, -1, 2), 2000), (D{17984, 17968, 5776}));
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(4095, 3, -4), 600), (D{28656, 28704, 680}));
+  // The next cabin was lost: what counts from its major is unknown.
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(1500, -2, 1), std::nullopt), (D{2928, 2920, 0}));
+  EXPECT_EQ(DecodeUltraCabin(UltraCabin(0, 7, 1), std::nullopt), (D{0, 0, 0}));
+}
+
+TEST(RplidarUltraCabins, AngleOffsetByDistance) {
+  // Below 50 mm (and for no return): 7.5 deg.
+  EXPECT_DOUBLE_EQ(UltraCabinAngleOffsetDeg(0), 7.5);
+  EXPECT_DOUBLE_EQ(UltraCabinAngleOffsetDeg(49), 7.5);
+  // 1000 mm: k = 98361 / 4000 = 24; 8 deg - 1536 / 65536 rad = 6.65713 deg.
+  EXPECT_NEAR(UltraCabinAngleOffsetDeg(1000), 6.657130, 1e-6);
+  // 297 mm: k = 98361 / 1188 = 82, 82^3 / 98304 = 5; 8 deg - (5248 + 5) / 65536 rad.
+  EXPECT_NEAR(UltraCabinAngleOffsetDeg(297), 3.407490, 1e-6);
+  // 50 mm: k = 491, 491^3 / 98304 = 1204; the formula goes below zero this close.
+  EXPECT_NEAR(UltraCabinAngleOffsetDeg(50), -20.525493, 1e-6);
+  // 28656 mm: k = 0, the full 8 deg.
+  EXPECT_NEAR(UltraCabinAngleOffsetDeg(28656), 8.0, 1e-12);
+}
+
+// Ultra capsule at 100 deg (q6 6400), the next at 112 deg (q6 7168): 96 samples 0.125 deg apart.
+const std::vector<uint32_t> kUltraCabinsAt100 = {
+    UltraCabin(1000, 5, -3), UltraCabin(300, 511, -512), UltraCabin(0, 7, -1),
+    UltraCabin(1500, -2, 1), UltraCabin(3428, -1, 2),    UltraCabin(2000, 0, 0),
+    UltraCabin(10, -20, 5),  UltraCabin(0, 3, 0)};
+Bytes UltraCapsuleAt100() {
+  std::vector<uint32_t> cabins = kUltraCabinsAt100;
+  cabins.resize(32, 0);
+  cabins[30] = UltraCabin(0, 511, 511);
+  cabins[31] = UltraCabin(4095, 3, -4);
+  return UltraCapsule(6400, cabins);
+}
+
+TEST(RplidarUltraCapsules, DecodeNinetySixSamplesWithTheNextCapsule) {
+  ScanStreamParser parser(PacketFormat::kUltraCapsules);
+  std::vector<ScanSample> samples;
+  const Bytes at100 = UltraCapsuleAt100();
+  parser.Feed(at100.data(), at100.size(), &samples);
+  EXPECT_TRUE(samples.empty());  // needs the next start angle and first major
+  const Bytes at112 = UltraCapsule(7168, {UltraCabin(600, 0, 0)});
+  parser.Feed(at112.data(), at112.size(), &samples);
+  EXPECT_EQ(parser.checksum_errors(), 0);
+  ASSERT_EQ(samples.size(), 96u);
+  // theta_j = 100 + 12 / 96 * j - offset(distance_j).
+  struct Expected {
+    int j;
+    uint32_t mm;
+    double angle_deg;
+  };
+  const Expected expected[] = {
+      {0, 1488, 92.895247},    // k 16: offset 7.104753
+      {1, 1498, 93.020247},    // k 16
+      {2, 297, 96.842510},     // k 82: offset 3.407490
+      {3, 300, 96.911557},     // k 81: offset 3.463443
+      {4, 0, 93.0},            // escape +511: offset 7.5
+      {5, 0, 93.125},          // escape -512
+      {6, 0, 93.25},           // major 0
+      {7, 2956, 93.322623},    // k 8: offset 7.552377
+      {8, 2924, 93.447623},    //
+      {11, 18000, 93.430953},  // k 1: offset 7.944047
+      {13, 17968, 93.680953},  //
+      {14, 5776, 93.973812},   // k 4: offset 7.776188
+      {19, 0, 94.875},         // 10 - 20 < 0: no return
+      {20, 5, 95.0},           // under 50 mm: 7.5
+      {22, 3, 95.25},          //
+      {90, 0, 103.75},         // escapes of cabin 30
+      {93, 28656, 103.625},    // k 0: offset 8
+      {94, 28704, 103.75},     //
+      {95, 680, 105.889305},   // predict2 on the next capsule's major 600 = 688; k 36
+  };
+  for (const Expected& e : expected) {
+    EXPECT_DOUBLE_EQ(samples[e.j].distance_m, e.mm / 1000.0) << e.j;
+    EXPECT_NEAR(samples[e.j].angle_cw_deg, e.angle_deg, 1e-6) << e.j;
+  }
+  EXPECT_EQ(samples[0].samples_after_in_packet, 95u);
+  EXPECT_EQ(samples[95].samples_after_in_packet, 0u);
+  EXPECT_EQ(samples[0].packet_end_offset, 132u);
+  EXPECT_EQ(samples[0].packet_size, 132u);
+  EXPECT_EQ(samples[95].slot, 95u);
+}
+
+TEST(RplidarUltraCapsules, ALostCapsuleLeavesOutOnlyTheSamplesThatNeedIt) {
+  Bytes lost = UltraCapsule(7168, {UltraCabin(600, 0, 0)});
+  lost[50] ^= 0x01;                                                 // checksum no longer matches
+  const Bytes at124 = UltraCapsule(7936, {UltraCabin(700, 0, 0)});  // q6 7936 = 124 deg
+  ScanStreamParser parser(PacketFormat::kUltraCapsules);
+  const auto samples =
+      FeedAll(PacketFormat::kUltraCapsules, Join({UltraCapsuleAt100(), lost, at124}), &parser);
+  EXPECT_EQ(parser.checksum_errors(), 1);
+  ASSERT_EQ(samples.size(), 96u);
+  // Spread over the span to 124 deg (24 deg / 192): the same 0.125 deg steps.
+  EXPECT_NEAR(samples[0].angle_cw_deg, 92.895247, 1e-6);
+  EXPECT_DOUBLE_EQ(samples[94].distance_m, 28.704);
+  EXPECT_EQ(samples[95].distance_m, 0.0);  // predicted from the lost capsule's first major
+}
+
+TEST(RplidarUltraCapsules, StartFlagWrapAndSplits) {
+  EXPECT_EQ(PacketFormatForAnswer(answer::kUltraCapsuled), PacketFormat::kUltraCapsules);
+  // 355 deg (q6 22720) then 7 deg (q6 448): 12 deg over 96 samples; raw 360 at sample 40.
+  const Bytes at355 = UltraCapsule(22720, {}, /*start_flag=*/true);
+  const Bytes at7 = UltraCapsule(448, {});
+  const Bytes at19 = UltraCapsule(1216, {});
+  const auto samples = FeedAll(PacketFormat::kUltraCapsules, Join({at355, at7, at19}));
+  ASSERT_EQ(samples.size(), 192u);  // the 355 and 7 deg capsules
+  for (int j = 0; j < 192; ++j) EXPECT_EQ(samples[j].start_of_revolution, j == 40) << j;
+  // No return: raw - 7.5 deg.
+  EXPECT_NEAR(samples[39].angle_cw_deg, 355.0 + 0.125 * 39 - 7.5, 1e-9);
+  ExpectSplitInvariant(PacketFormat::kUltraCapsules,
+                       Join({{0x11, 0xA5}, UltraCapsuleAt100(), at19, at355, at7}));
+}
+
+// ---- GET_LIDAR_CONF.
+
+TEST(RplidarLidarConf, RequestBytes) {
+  // A5 84 04 | type 0x70 LE | checksum A5^84^04^70 = 0x55.
+  EXPECT_EQ(EncodeGetLidarConfRequest(lidar_conf::kScanModeCount),
+            (Bytes{0xA5, 0x84, 0x04, 0x70, 0x00, 0x00, 0x00, 0x55}));
+  EXPECT_EQ(EncodeGetLidarConfRequest(lidar_conf::kScanModeTypical),
+            (Bytes{0xA5, 0x84, 0x04, 0x7C, 0x00, 0x00, 0x00, 0x59}));
+  // Per-mode entries add the 16-bit mode id: A5^84^06^71^03 = 0x55.
+  EXPECT_EQ(EncodeGetLidarConfRequest(lidar_conf::kScanModeUsPerSample, 3),
+            (Bytes{0xA5, 0x84, 0x06, 0x71, 0x00, 0x00, 0x00, 0x03, 0x00, 0x55}));
+}
+
+TEST(RplidarLidarConf, AnswerValues) {
+  // Descriptor A5 5A 08 00 00 00 20: single answer of 8 bytes.
+  const Bytes descriptor = {0xA5, 0x5A, 0x08, 0x00, 0x00, 0x00, 0x20};
+  EXPECT_EQ(ParseDescriptor(descriptor.data())->data_type, answer::kLidarConf);
+  // US_PER_SAMPLE: 0x3E80 = 16000 in Q8 = 62.5 us.
+  const Bytes us = {0x71, 0x00, 0x00, 0x00, 0x80, 0x3E, 0x00, 0x00};
+  const auto us_value = ParseLidarConfValue(lidar_conf::kScanModeUsPerSample, us.data(), us.size());
+  ASSERT_TRUE(us_value);
+  EXPECT_DOUBLE_EQ(*LidarConfQ8(*us_value), 62.5);
+  // MAX_DISTANCE: 25 m = 6400 = 0x1900 in Q8.
+  const Bytes max = {0x74, 0x00, 0x00, 0x00, 0x00, 0x19, 0x00, 0x00};
+  EXPECT_DOUBLE_EQ(*LidarConfQ8(*ParseLidarConfValue(0x74, max.data(), max.size())), 25.0);
+  // COUNT (u16), ANS_TYPE (u8), NAME (text to the NUL).
+  const Bytes count = {0x70, 0x00, 0x00, 0x00, 0x05, 0x00};
+  EXPECT_EQ(*LidarConfUnsigned(*ParseLidarConfValue(0x70, count.data(), count.size()), 2), 5u);
+  const Bytes type = {0x75, 0x00, 0x00, 0x00, 0x84};
+  EXPECT_EQ(*LidarConfUnsigned(*ParseLidarConfValue(0x75, type.data(), type.size()), 1), 0x84u);
+  const Bytes name = {0x7F, 0, 0, 0, 'S', 'e', 'n', 's', 'i', 't', 'i', 'v', 'i', 't', 'y', 0, 'x'};
+  EXPECT_EQ(LidarConfText(*ParseLidarConfValue(0x7F, name.data(), name.size())), "Sensitivity");
+  // Another entry's echo, or the type alone: no value.
+  EXPECT_FALSE(ParseLidarConfValue(lidar_conf::kScanModeMaxDistance, us.data(), us.size()));
+  EXPECT_FALSE(ParseLidarConfValue(0x70, count.data(), 4));
+  EXPECT_FALSE(LidarConfQ8({0x80, 0x3E}));  // too short for a u32
+  EXPECT_TRUE(ScanModeNameMatches("DenseBoost", "denseboost"));
+  EXPECT_TRUE(ScanModeNameMatches("Sensitivity", "sensitivity"));
+  EXPECT_FALSE(ScanModeNameMatches("Boost", "denseboost"));
+  EXPECT_FALSE(ScanModeNameMatches("", ""));
 }
 
 }  // namespace

@@ -34,6 +34,15 @@ double Wavy(double angle_cw_rad) {  // slope <= 2.4 m/rad: a wrong angle shows
   return 2.0 + 0.4 * std::sin(6.0 * angle_cw_rad);
 }
 
+double Far(double angle_cw_rad) {  // 1 to 20 m: every band of the ultra cabins' scale
+  return 10.5 + 9.5 * std::sin(angle_cw_rad);
+}
+
+bool EndsWith(const Bytes& bytes, const Bytes& tail) {
+  return bytes.size() >= tail.size() &&
+         std::equal(tail.begin(), tail.end(), bytes.end() - tail.size());
+}
+
 RplidarOptions TestOptions(const std::string& port) {
   RplidarOptions o;
   o.port = port;
@@ -204,9 +213,12 @@ TEST(RplidarDriver, EveryModelScansInItsDefaultMode) {
     rplidar::PacketFormat format;
     int beams;  // samples per revolution at the nominal rate, to the nearest ten
   };
-  const Case cases[] = {{"a2", rplidar::PacketFormat::kLegacyCapsules, 400},   // 250 us, 10 Hz
-                        {"a3", rplidar::PacketFormat::kLegacyCapsules, 790},   // 126 us, 10 Hz
-                        {"s2", rplidar::PacketFormat::kDenseCapsules, 3230}};  // 31 us, 10 Hz
+  const Case cases[] = {
+      {"a2", rplidar::PacketFormat::kLegacyCapsules,
+       400},  // 250 us, 10 Hz
+              // The A3 lists its modes: Sensitivity, its typical, at 62.5 us, 10 Hz.
+      {"a3", rplidar::PacketFormat::kUltraCapsules, 1600},
+      {"s2", rplidar::PacketFormat::kDenseCapsules, 3230}};  // 31 us, 10 Hz
   for (const Case& c : cases) {
     SCOPED_TRACE(c.model);
     RplidarEmulatorOptions device = RplidarEmulatorModel(c.model);
@@ -223,6 +235,142 @@ TEST(RplidarDriver, EveryModelScansInItsDefaultMode) {
       ExpectBeamTimesFollowTheSweep(scan, 10.0);
     }
   }
+}
+
+TEST(RplidarDriver, AnA3ListsItsModesAndScansInTheTypicalSensitivity) {
+  RplidarEmulatorOptions device = RplidarEmulatorModel("a3");
+  device.range_m = Far;
+  Rig rig(device, "auto", 256000);
+  rig.driver.Start();
+  const RplidarConnection& c = rig.driver.connection();
+  ASSERT_EQ(c.scan_modes.size(), 5u);
+  const char* names[] = {"Standard", "Express", "Boost", "Sensitivity", "Stability"};
+  for (std::size_t id = 0; id < 5; ++id) {
+    EXPECT_EQ(c.scan_modes[id].id, id);
+    EXPECT_EQ(c.scan_modes[id].name, names[id]);
+  }
+  EXPECT_DOUBLE_EQ(c.scan_modes[4].us_per_sample, 100.0);
+  EXPECT_DOUBLE_EQ(c.scan_modes[0].max_distance_m, 16.0);
+  EXPECT_EQ(c.scan_modes[1].answer_type, 0x82);
+  EXPECT_EQ(c.scan_modes[3].answer_type, 0x84);
+  ASSERT_TRUE(c.typical_scan_mode);
+  EXPECT_EQ(*c.typical_scan_mode, 3);
+  EXPECT_EQ(c.scan_mode_name, "Sensitivity");
+  EXPECT_EQ(c.format, rplidar::PacketFormat::kUltraCapsules);
+  EXPECT_DOUBLE_EQ(c.sample_period_s, 62.5e-6);  // the mode's, not GET_SAMPLERATE's 126 us
+  EXPECT_EQ(c.beams_per_revolution, 1600);       // 1 / (62.5 us * 10 Hz)
+  EXPECT_EQ(c.range_max_m, 25.0);
+  const Bytes sent = rig.emulator.ReceivedBytes();
+  // After GET_SAMPLERATE the mode count is asked first: A5 84 04 70 00 00 00 55.
+  const Bytes before_modes = {0xA5, 0x25, 0xA5, 0x50, 0xA5, 0x52, 0xA5, 0x59,
+                              0xA5, 0x84, 0x04, 0x70, 0x00, 0x00, 0x00, 0x55};
+  ASSERT_GE(sent.size(), before_modes.size());
+  EXPECT_TRUE(std::equal(before_modes.begin(), before_modes.end(), sent.begin()));
+  // EXPRESS_SCAN in working mode 3 (Sensitivity): checksum A5^82^05^03 = 0x21.
+  EXPECT_TRUE(EndsWith(sent, {0xA5, 0x82, 0x05, 0x03, 0x00, 0x00, 0x00, 0x00, 0x21}));
+  const std::vector<LidarScan> scans = rig.Collect(3);
+  ASSERT_EQ(scans.size(), 3u);
+  for (const LidarScan& scan : scans) {
+    // Half a beam (0.11 deg) at up to 9.5 m/rad, plus 16 mm steps beyond 16 m.
+    ExpectRangesMatch(scan, Far, 0.04, 0.95);
+    ExpectBeamTimesFollowTheSweep(scan, 10.0);
+    EXPECT_EQ(scan.range_max_m, 25.0);
+  }
+  EXPECT_EQ(rig.driver.stats().checksum_errors, 0);
+  EXPECT_EQ(rig.driver.stats().dropped_revolutions, 0);
+  EXPECT_TRUE(Contains(rig.log, "scan mode Sensitivity: ultra capsules")) << rig.log.back();
+}
+
+TEST(RplidarDriver, ScanModeBoostPicksBoost) {
+  RplidarEmulatorOptions device = RplidarEmulatorModel("a3");
+  device.range_m = Wavy;
+  Rig rig(device, "boost", 256000);
+  rig.driver.Start();
+  EXPECT_EQ(rig.driver.connection().scan_mode_name, "Boost");
+  EXPECT_EQ(rig.driver.connection().format, rplidar::PacketFormat::kUltraCapsules);
+  // Working mode 2: checksum A5^82^05^02 = 0x20.
+  EXPECT_TRUE(EndsWith(rig.emulator.ReceivedBytes(),
+                       {0xA5, 0x82, 0x05, 0x02, 0x00, 0x00, 0x00, 0x00, 0x20}));
+  const std::vector<LidarScan> scans = rig.Collect(2);
+  ASSERT_EQ(scans.size(), 2u);
+  for (const LidarScan& scan : scans) ExpectRangesMatch(scan, Wavy, 0.02, 0.95);
+}
+
+TEST(RplidarDriver, ScanModeStabilityTakesItsOwnSampleTime) {
+  RplidarEmulatorOptions device = RplidarEmulatorModel("a3");
+  device.range_m = Smooth;
+  Rig rig(device, "stability", 256000);
+  rig.driver.Start();
+  EXPECT_EQ(rig.driver.connection().scan_mode_name, "Stability");
+  EXPECT_DOUBLE_EQ(rig.driver.connection().sample_period_s, 100e-6);
+  EXPECT_EQ(rig.driver.connection().beams_per_revolution, 1000);
+  const std::vector<LidarScan> scans = rig.Collect(2);
+  ASSERT_EQ(scans.size(), 2u);
+  for (const LidarScan& scan : scans) {
+    ExpectRangesMatch(scan, Smooth, 0.02, 0.95);
+    ExpectBeamTimesFollowTheSweep(scan, 10.0);
+  }
+}
+
+TEST(RplidarDriver, WithoutAValidModeListTheModelsChoiceStays) {
+  for (const bool error_answer : {true, false}) {
+    SCOPED_TRACE(error_answer ? "wrong answers" : "no answers");
+    RplidarEmulatorOptions device = RplidarEmulatorModel("a3");
+    device.range_m = Smooth;
+    if (error_answer) {
+      device.lidar_conf_error = true;  // answers echo another entry, with no value
+    } else {
+      device.scan_modes.clear();  // ignores GET_LIDAR_CONF, as firmware before 1.24 does
+    }
+    Rig rig(device, "auto", 256000);
+    rig.driver.Start();
+    const RplidarConnection& c = rig.driver.connection();
+    EXPECT_TRUE(c.scan_modes.empty());
+    EXPECT_FALSE(c.typical_scan_mode);
+    EXPECT_TRUE(Contains(rig.log, "no valid answer to GET_LIDAR_CONF"))
+        << ::testing::PrintToString(rig.log);
+    const Bytes commands = rig.emulator.ReceivedCommands();
+    EXPECT_EQ(std::count(commands.begin(), commands.end(), 0x84), 1);  // asked once, gave up
+    // Legacy EXPRESS_SCAN (working mode 0) at GET_SAMPLERATE's 126 us, as before.
+    EXPECT_TRUE(EndsWith(rig.emulator.ReceivedBytes(),
+                         {0xA5, 0x82, 0x05, 0x00, 0x00, 0x00, 0x00, 0x00, 0x22}));
+    EXPECT_EQ(c.format, rplidar::PacketFormat::kLegacyCapsules);
+    EXPECT_EQ(c.beams_per_revolution, 790);
+    const std::vector<LidarScan> scans = rig.Collect(2);
+    ASSERT_EQ(scans.size(), 2u);
+    for (const LidarScan& scan : scans) ExpectRangesMatch(scan, Smooth, 0.03, 0.9);
+  }
+}
+
+TEST(RplidarDriver, OldFirmwareIsNotAskedForModes) {
+  RplidarEmulatorOptions device = RplidarEmulatorModel("a3");
+  device.firmware_minor = 20;  // 1.20: before GET_LIDAR_CONF
+  Rig rig(device, "auto", 256000);
+  rig.driver.Start();
+  const Bytes commands = rig.emulator.ReceivedCommands();
+  EXPECT_EQ(std::count(commands.begin(), commands.end(), 0x84), 0);
+  EXPECT_EQ(rig.driver.connection().format, rplidar::PacketFormat::kLegacyCapsules);
+  EXPECT_EQ(rig.Collect(1).size(), 1u);
+}
+
+TEST(RplidarDriver, AModeTheLidarDoesNotListFailsClearly) {
+  const auto error_of = [](RplidarEmulatorOptions device, const std::string& mode) {
+    Rig rig(std::move(device), mode, 256000);
+    try {
+      rig.driver.Start();
+    } catch (const DeviceError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string unlisted = error_of(RplidarEmulatorModel("a3"), "denseboost");
+  EXPECT_NE(unlisted.find("denseboost is not among the lidar's scan modes (Standard, Express, "
+                          "Boost, Sensitivity, Stability)"),
+            std::string::npos)
+      << unlisted;
+  const std::string no_list = error_of(RplidarEmulatorModel("a2"), "sensitivity");
+  EXPECT_NE(no_list.find("sensitivity needs a lidar that lists its scan modes"), std::string::npos)
+      << no_list;
 }
 
 TEST(RplidarDriver, GarbageBeforeSyncAndInTheStreamIsSkipped) {
@@ -422,6 +570,15 @@ TEST(RplidarOptionsTest, ConfigErrorsNameFileKeyAndValue) {
   EXPECT_EQ(o.baud, 256000);
   EXPECT_EQ(o.model, "a3");
   EXPECT_EQ(o.scan_mode, "express");
+  EXPECT_EQ(LoadRplidarOptions(
+                ConfigReader::FromString("rplidar:\n  scan_mode: sensitivity\n", "rplidar"))
+                .scan_mode,
+            "sensitivity");
+  RplidarOptions boost;
+  boost.scan_mode = "boost";
+  EXPECT_NO_THROW(ValidateRplidarOptions(boost));
+  boost.scan_mode = "Boost";  // names are given in lower case
+  EXPECT_THROW(ValidateRplidarOptions(boost), std::invalid_argument);
   EXPECT_EQ(o.reconnect_backoff_initial_s, 1.0);
   EXPECT_EQ(o.reconnect_backoff_max_s, 4.0);
   EXPECT_EQ(ResolvedBaud(o), 256000);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,70 @@ double NowS() {
 void PutU16(std::vector<uint8_t>* bytes, unsigned value) {
   bytes->push_back(static_cast<uint8_t>(value & 0xFF));
   bytes->push_back(static_cast<uint8_t>((value >> 8) & 0xFF));
+}
+
+void PutU32(std::vector<uint8_t>* bytes, uint32_t value) {
+  PutU16(bytes, value & 0xFFFF);
+  PutU16(bytes, value >> 16);
+}
+
+// Ultra cabin majors in the variable bit scale of Slamtec's rplidar_sdk (sl_lidar_cmd.h):
+// distances from 512, 2048, 4096 and 16384 mm are kept in steps of 2, 4, 8 and 16 mm, under
+// codes counting on from 512, 1280, 1792 and 3328; below 512 mm the code is the distance.
+struct ScaleBand {
+  uint32_t from_mm;
+  uint32_t from_code;
+  int step_log2;
+};
+constexpr ScaleBand kScaleBands[] = {
+    {16384, 3328, 4}, {4096, 1792, 3}, {2048, 1280, 2}, {512, 512, 1}, {0, 0, 0}};
+constexpr uint32_t kUltraMaxMm = 16384 + (4095 - 3328) * 16;  // the largest 12-bit code
+
+struct Major {
+  uint32_t code = 0;
+  uint32_t mm = 0;  // what the code stands for
+  int step_log2 = 0;
+};
+
+Major MajorOfCode(uint32_t code) {
+  for (const ScaleBand& band : kScaleBands) {
+    if (code >= band.from_code) {
+      return {code, band.from_mm + ((code - band.from_code) << band.step_log2), band.step_log2};
+    }
+  }
+  return {};
+}
+
+Major MajorOfDistance(uint32_t mm) {
+  if (mm == 0 || mm > kUltraMaxMm) return {};  // code 0: no return
+  for (const ScaleBand& band : kScaleBands) {
+    if (mm >= band.from_mm) {
+      const double steps = std::round((mm - band.from_mm) / std::ldexp(1.0, band.step_log2));
+      return MajorOfCode(std::min<uint32_t>(4095, band.from_code + static_cast<uint32_t>(steps)));
+    }
+  }
+  return {};
+}
+
+// A 10-bit predict: the distance less the base, in the base's steps; +511 (an escape the SDK
+// reads as no return) when there is no return or the difference does not fit.
+uint32_t PredictBits(uint32_t mm, const Major& base) {
+  constexpr uint32_t kNoReturn = 0x1FF;
+  if (mm == 0 || mm > kUltraMaxMm) return kNoReturn;
+  const double step = std::ldexp(1.0, base.step_log2);
+  const double steps = std::round((static_cast<double>(mm) - base.mm) / step);
+  if (steps < -511 || steps > 510 || base.mm + steps * step <= 0) return kNoReturn;
+  return static_cast<uint32_t>(static_cast<int>(steps)) & 0x3FF;
+}
+
+// The SDK's mean angle offset of ultra samples (degrees subtracted from the raw angle):
+// 7.5 deg under 50 mm, else 8 deg less (64 k + k^3 / 98304) / 65536 rad, k = 98361 / (4 mm),
+// in integer divisions.
+double UltraOffsetDeg(uint32_t mm) {
+  if (mm < 50) return 7.5;
+  const long k = 98361L / (4L * static_cast<long>(mm));
+  const double less_rad = (64.0 * k + static_cast<double>((k * k * k) / 98304)) / 65536.0;
+  return 8.0 - less_rad * 180.0 / M_PI;
 }
 
 // Angle compensation of legacy cabin samples, q3 degrees (sign and magnitude): a slow wave
@@ -51,6 +116,13 @@ RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
     o.express_sample_us = 126;   // 7.9 k samples/s
     o.rotation_hz = 10.0;
     o.boot_banner = "RP LIDAR System.\r\nFirmware Ver 1.26 - rtm, HW Ver 6\r\nModel: 31\r\n";
+    // An A3M1's list: 4 k Standard, 8 k Express, 16 k Boost and Sensitivity, 10 k Stability.
+    o.scan_modes = {{"Standard", 250.0, 16.0, 0x81},
+                    {"Express", 126.0, 16.0, 0x82},
+                    {"Boost", 62.5, 25.0, 0x84},
+                    {"Sensitivity", 62.5, 25.0, 0x84},
+                    {"Stability", 100.0, 25.0, 0x84}};
+    o.typical_scan_mode = 3;  // Sensitivity
     return o;
   }
   if (name == "s1" || name == "s2") {
@@ -263,21 +335,95 @@ void RplidarEmulator::HandleRequest(uint8_t command, const std::vector<uint8_t>&
     case 0x21:                                  // FORCE_SCAN
       if (options_.health_status == 2) return;  // protection stop: no measurements
       Send({0xA5, 0x5A, 0x05, 0x00, 0x00, 0x40, 0x81});
-      StartStream(Stream::kStandard);
+      StartStream(Stream::kStandard, options_.standard_sample_us);
       return;
-    case 0x82:  // EXPRESS_SCAN
+    case 0x82: {  // EXPRESS_SCAN: working_mode, working_flags (16), param (16)
       if (options_.health_status == 2 || payload.size() != 5) return;
+      const uint8_t working_mode = payload[0];
+      if (working_mode > 0 && !options_.scan_modes.empty()) {
+        if (working_mode >= options_.scan_modes.size()) return;  // no such mode: ignored
+        const RplidarEmulatorScanMode& mode = options_.scan_modes[working_mode];
+        switch (mode.answer_type) {
+          case 0x81:
+            Send({0xA5, 0x5A, 0x05, 0x00, 0x00, 0x40, 0x81});
+            StartStream(Stream::kStandard, mode.us_per_sample);
+            return;
+          case 0x82:
+          case 0x85:
+            Send({0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, mode.answer_type});
+            StartStream(mode.answer_type == 0x82 ? Stream::kLegacy : Stream::kDense,
+                        mode.us_per_sample);
+            return;
+          case 0x84:  // ultra capsules: 132 bytes
+            Send({0xA5, 0x5A, 0x84, 0x00, 0x00, 0x40, 0x84});
+            StartStream(Stream::kUltra, mode.us_per_sample);
+            return;
+          default: return;
+        }
+      }
       if (options_.dense_express) {
         Send({0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, 0x85});
-        StartStream(Stream::kDense);
+        StartStream(Stream::kDense, options_.express_sample_us);
       } else {
         Send({0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, 0x82});
-        StartStream(Stream::kLegacy);
+        StartStream(Stream::kLegacy, options_.express_sample_us);
       }
+      return;
+    }
+    case 0x84:  // GET_LIDAR_CONF
+      AnswerLidarConf(payload);
       return;
     default:  // MOTOR_SPEED_CTRL and the rest: no answer
       return;
   }
+}
+
+void RplidarEmulator::AnswerLidarConf(const std::vector<uint8_t>& payload) {
+  // Firmware before 1.24 does not know the request.
+  if (options_.scan_modes.empty() || payload.size() < 4) return;
+  // Request payload: type (32 bits), then for per-mode types the mode id (16 bits).
+  const uint32_t type = static_cast<uint32_t>(payload[0]) | (payload[1] << 8) | (payload[2] << 16) |
+                        (static_cast<uint32_t>(payload[3]) << 24);
+  const unsigned id =
+      payload.size() >= 6 ? static_cast<unsigned>(payload[4] | (payload[5] << 8)) : 0u;
+  const RplidarEmulatorScanMode* mode =
+      id < options_.scan_modes.size() ? &options_.scan_modes[id] : nullptr;
+  std::vector<uint8_t> value;
+  switch (type) {
+    case 0x70: PutU16(&value, static_cast<unsigned>(options_.scan_modes.size())); break;
+    case 0x7C: PutU16(&value, options_.typical_scan_mode); break;
+    case 0x71:  // Q8 microseconds
+      if (!mode) return;
+      PutU32(&value, static_cast<uint32_t>(std::lround(mode->us_per_sample * 256.0)));
+      break;
+    case 0x74:  // Q8 meters
+      if (!mode) return;
+      PutU32(&value, static_cast<uint32_t>(std::lround(mode->max_distance_m * 256.0)));
+      break;
+    case 0x75:
+      if (!mode) return;
+      value.push_back(mode->answer_type);
+      break;
+    case 0x7F:
+      if (!mode) return;
+      value.assign(mode->name.begin(), mode->name.end());
+      value.push_back(0);
+      break;
+    default: return;
+  }
+  std::vector<uint8_t> answer_data;
+  if (options_.lidar_conf_error) {
+    PutU32(&answer_data, type ^ 0x1000);  // some other entry's type, and nothing after it
+  } else {
+    PutU32(&answer_data, type);
+    answer_data.insert(answer_data.end(), value.begin(), value.end());
+  }
+  // Descriptor: A5 5A, length (30 bits) with send mode 0 (single), data type 0x20.
+  std::vector<uint8_t> answer = {0xA5, 0x5A};
+  PutU32(&answer, static_cast<uint32_t>(answer_data.size()));
+  answer.push_back(0x20);
+  answer.insert(answer.end(), answer_data.begin(), answer_data.end());
+  Send(answer);
 }
 
 void RplidarEmulator::DoReset() {
@@ -293,34 +439,38 @@ void RplidarEmulator::DoReset() {
   }
 }
 
-void RplidarEmulator::StartStream(Stream stream) {
+void RplidarEmulator::StartStream(Stream stream, double sample_us) {
   ++scans_started_;
   stream_ = stream;
+  stream_period_s_ = sample_us * 1e-6;
   stream_start_s_ = NowS();
   next_packet_ = 0;
   Send(options_.garbage_before_first_packet);
 }
 
 double RplidarEmulator::AngleAtSampleDeg(int64_t sample) const {
-  const double period_s =
-      (stream_ == Stream::kStandard ? options_.standard_sample_us : options_.express_sample_us) *
-      1e-6;
-  return std::fmod(options_.start_angle_deg + 360.0 * options_.rotation_hz * period_s * sample,
-                   360.0);
+  return std::fmod(
+      options_.start_angle_deg + 360.0 * options_.rotation_hz * stream_period_s_ * sample, 360.0);
 }
 
 void RplidarEmulator::StreamDue() {
-  const double period_s =
-      (stream_ == Stream::kStandard ? options_.standard_sample_us : options_.express_sample_us) *
-      1e-6;
-  const int per_packet = stream_ == Stream::kStandard ? 1 : stream_ == Stream::kLegacy ? 32 : 40;
+  int per_packet = 1;
+  if (stream_ == Stream::kLegacy) per_packet = 32;
+  if (stream_ == Stream::kDense) per_packet = 40;
+  if (stream_ == Stream::kUltra) per_packet = 96;  // 32 cabins of 3 samples
   const double emulated_s = (NowS() - stream_start_s_) * options_.time_scale;
-  const auto measured = static_cast<int64_t>(emulated_s / period_s);
+  const auto measured = static_cast<int64_t>(emulated_s / stream_period_s_);
   // A packet leaves once all of its samples are measured.
   std::vector<uint8_t> out;
   while ((next_packet_ + 1) * per_packet <= measured && out.size() < 16384) {
-    const std::vector<uint8_t> packet =
-        stream_ == Stream::kStandard ? StandardNode(next_packet_) : CapsuleAt(next_packet_);
+    std::vector<uint8_t> packet;
+    if (stream_ == Stream::kStandard) {
+      packet = StandardNode(next_packet_);
+    } else if (stream_ == Stream::kUltra) {
+      packet = UltraCapsuleAt(next_packet_);
+    } else {
+      packet = CapsuleAt(next_packet_);
+    }
     out.insert(out.end(), packet.begin(), packet.end());
     ++next_packet_;
     ++packets_sent_;
@@ -383,14 +533,62 @@ std::vector<uint8_t> RplidarEmulator::CapsuleAt(int64_t capsule) {
                                            ((compensation_six[k + 1] & 0x0F) << 4)));
     }
   }
+  SealCapsule(&bytes);
+  return bytes;
+}
+
+void RplidarEmulator::SealCapsule(std::vector<uint8_t>* bytes) {
+  // Sync nibbles A and 5 under the XOR of every byte after the first two.
   uint8_t checksum = 0;
-  for (std::size_t i = 2; i < bytes.size(); ++i) checksum ^= bytes[i];
-  bytes[0] = static_cast<uint8_t>(0xA0 | (checksum & 0x0F));
-  bytes[1] = static_cast<uint8_t>(0x50 | (checksum >> 4));
+  for (std::size_t i = 2; i < bytes->size(); ++i) checksum ^= (*bytes)[i];
+  (*bytes)[0] = static_cast<uint8_t>(0xA0 | (checksum & 0x0F));
+  (*bytes)[1] = static_cast<uint8_t>(0x50 | (checksum >> 4));
   if (corrupt_next_capsule_) {
     corrupt_next_capsule_ = false;
-    bytes[40] ^= 0x10;  // after the checksum: the receiver must reject this capsule
+    (*bytes)[40] ^= 0x10;  // after the checksum: the receiver must reject this capsule
   }
+}
+
+int RplidarEmulator::UltraStartQ6(int64_t capsule) const {
+  return static_cast<int>(std::lround(AngleAtSampleDeg(capsule * 96) * 64.0)) % (360 * 64);
+}
+
+uint32_t RplidarEmulator::UltraSampleMm(int64_t capsule, int sample) const {
+  // Raw angles step evenly from this capsule's start angle to the next one's.
+  const double start_deg = UltraStartQ6(capsule) / 64.0;
+  double diff_deg = UltraStartQ6(capsule + 1) / 64.0 - start_deg;
+  if (diff_deg < 0) diff_deg += 360.0;
+  const double raw_deg = start_deg + diff_deg * sample / 96.0;
+  // The sample lies at raw - offset(distance): settle the distance there by iteration.
+  long mm = 0;
+  double offset_deg = 8.0;
+  for (int i = 0; i < 4; ++i) {
+    const double angle_deg = std::fmod(raw_deg - offset_deg + 720.0, 360.0);
+    mm = std::lround(options_.range_m(angle_deg * M_PI / 180.0) * 1000.0);
+    if (mm <= 0 || mm > static_cast<long>(kUltraMaxMm)) return 0;
+    offset_deg = UltraOffsetDeg(static_cast<uint32_t>(mm));
+  }
+  return static_cast<uint32_t>(mm);
+}
+
+std::vector<uint8_t> RplidarEmulator::UltraCapsuleAt(int64_t capsule) {
+  std::vector<uint8_t> bytes = {0, 0};
+  PutU16(&bytes, static_cast<unsigned>(UltraStartQ6(capsule)) | (capsule == 0 ? 0x8000u : 0u));
+  // 96 samples, and the next capsule's first: the last cabin predicts from its major.
+  std::vector<uint32_t> mm(97);
+  for (int k = 0; k < 96; ++k) mm[k] = UltraSampleMm(capsule, k);
+  mm[96] = UltraSampleMm(capsule + 1, 0);
+  for (int cabin = 0; cabin < 32; ++cabin) {
+    const Major major = MajorOfDistance(mm[3 * cabin]);
+    const Major next = MajorOfDistance(mm[3 * cabin + 3]);
+    // A major without a return lends its first predict the next major as base.
+    const Major& base1 = major.mm == 0 && next.mm != 0 ? next : major;
+    const uint32_t predict1 = PredictBits(mm[3 * cabin + 1], base1);
+    const uint32_t predict2 = PredictBits(mm[3 * cabin + 2], next);
+    // | predict2:10 | predict1:10 | major:12 |
+    PutU32(&bytes, major.code | (predict1 << 12) | (predict2 << 22));
+  }
+  SealCapsule(&bytes);
   return bytes;
 }
 

@@ -2,9 +2,10 @@
 
 // A Slamtec RPLIDAR emulated on a pseudo-terminal, written from Slamtec's "RPLIDAR
 // Interface Protocol and Application Notes" alone (it shares no code with the driver).
-// It answers GET_INFO, GET_HEALTH, GET_SAMPLERATE, RESET (a boot banner, then deaf for
-// the boot time), STOP, MOTOR_SPEED_CTRL, and streams SCAN nodes or EXPRESS_SCAN
-// capsules (legacy, or dense on S-series) at the model's sample rate from a range
+// It answers GET_INFO, GET_HEALTH, GET_SAMPLERATE, GET_LIDAR_CONF (scan modes, where
+// configured), RESET (a boot banner, then deaf for the boot time), STOP, MOTOR_SPEED_CTRL,
+// and streams SCAN nodes or EXPRESS_SCAN capsules (legacy, dense on S-series, or ultra
+// for a listed Boost/Sensitivity/Stability mode) at the mode's sample rate from a range
 // function, in its own thread. Faults can be injected: garbage, a capsule with a bad
 // checksum, a health warning or error, a reset mid-scan, an unplug and a replug.
 //
@@ -24,6 +25,14 @@
 
 namespace aslam {
 
+// A scan mode as GET_LIDAR_CONF reports it; its index in the list is its id.
+struct RplidarEmulatorScanMode {
+  std::string name;
+  double us_per_sample = 0.0;
+  double max_distance_m = 0.0;
+  uint8_t answer_type = 0;  // 0x81 nodes, 0x82 legacy, 0x84 ultra, 0x85 dense capsules
+};
+
 struct RplidarEmulatorOptions {
   // What GET_INFO reports.
   uint8_t model_byte = 0x18;
@@ -34,6 +43,11 @@ struct RplidarEmulatorOptions {
   uint16_t standard_sample_us = 508;
   uint16_t express_sample_us = 254;
   bool dense_express = false;  // EXPRESS_SCAN streams dense capsules (answer type 0x85)
+  // Modes GET_LIDAR_CONF lists; empty = firmware without it (requests are ignored). EXPRESS_SCAN
+  // with working mode 1.. starts the listed mode of that id; mode 0 stays legacy EXPRESS_SCAN.
+  std::vector<RplidarEmulatorScanMode> scan_modes;
+  uint16_t typical_scan_mode = 0;
+  bool lidar_conf_error = false;  // GET_LIDAR_CONF answers echo the wrong type, no value
   double rotation_hz = 5.5;
   double start_angle_deg = 123.0;  // where the rotor points when a scan starts
   double time_scale = 1.0;         // emulated seconds per real second
@@ -82,18 +96,25 @@ class RplidarEmulator {
   int64_t packets_sent() const { return packets_sent_; }
 
  private:
-  enum class Stream { kNone, kStandard, kLegacy, kDense };
+  enum class Stream { kNone, kStandard, kLegacy, kDense, kUltra };
   void Run();
   void PointLink();
   void Send(const std::vector<uint8_t>& bytes);
   void HandleInput(const std::vector<uint8_t>& bytes);
   void HandleRequest(uint8_t command, const std::vector<uint8_t>& payload);
   void DoReset();
-  void StartStream(Stream stream);
+  void StartStream(Stream stream, double sample_us);
+  void AnswerLidarConf(const std::vector<uint8_t>& payload);
   void StreamDue();
   double AngleAtSampleDeg(int64_t sample) const;
   std::vector<uint8_t> StandardNode(int64_t sample);
   std::vector<uint8_t> CapsuleAt(int64_t capsule);
+  std::vector<uint8_t> UltraCapsuleAt(int64_t capsule);
+  // Checksum nibbles, and the injected corruption when one is pending.
+  void SealCapsule(std::vector<uint8_t>* bytes);
+  // The ultra capsule's start angle, q6 degrees, and its samples' distances in mm.
+  int UltraStartQ6(int64_t capsule) const;
+  uint32_t UltraSampleMm(int64_t capsule, int sample) const;
 
   RplidarEmulatorOptions options_;
   std::string dir_;
@@ -108,7 +129,8 @@ class RplidarEmulator {
   bool reset_requested_ = false;
   double deaf_until_s_ = 0.0;
   Stream stream_ = Stream::kNone;
-  double stream_start_s_ = 0.0;  // real time the stream started
+  double stream_start_s_ = 0.0;   // real time the stream started
+  double stream_period_s_ = 0.0;  // emulated seconds per sample
   int64_t next_packet_ = 0;
   uint32_t noise_state_ = 12345;
   std::atomic<int> scans_started_{0};
