@@ -44,7 +44,8 @@ void Cast(LidarScan* scan, const std::vector<float>& beam_time_s) {
     const double t = beam_time_s.empty() ? 0.0 : beam_time_s[i];
     const Pose2d sensor = BaseInWorld(t) * scan->sensor_pose;
     const Point2d origin{sensor.x_m, sensor.y_m};
-    scan->range_m[i] = static_cast<float>(RangeToRoomWalls(origin, sensor.yaw_rad + scan->BeamAngle(i)));
+    scan->range_m[i] =
+        static_cast<float>(RangeToRoomWalls(origin, sensor.yaw_rad + scan->BeamAngle(i)));
   }
   scan->beam_time_s = beam_time_s;
 }

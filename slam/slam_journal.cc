@@ -238,9 +238,9 @@ SlamJournalRead ReadSlamJournal(const std::string& path) {
   if (!in) throw std::runtime_error("cannot read SLAM journal " + path + ": " + ErrnoText());
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    throw std::runtime_error(
-        path +
-        ": not an aslam SLAM journal of this version (no ASLAMJ02 header; ASLAMJ01 is an older aslam's)");
+    throw std::runtime_error(path +
+                             ": not an aslam SLAM journal of this version (no ASLAMJ02 header; "
+                             "ASLAMJ01 is an older aslam's)");
   }
   SlamJournalRead read;
   std::size_t offset = sizeof(kMagic);
