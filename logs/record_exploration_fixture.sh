@@ -6,4 +6,4 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
-"$build/tests/record_fixture" exploration "$root/logs/exploration_fixture.lcmlog" 50
+"$build/tests/record_fixture" exploration "$root/logs/exploration_fixture.lcmlog" 90

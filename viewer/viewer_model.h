@@ -1,0 +1,166 @@
+#pragma once
+
+// What aslam-viewer shows, on value types (no LCM, no server): the newest map, pose, scan,
+// pose graph, frontiers, utility scores, navigator and exploration state, process health,
+// and the known area and mean edge D-optimality over time. Update() writes, for one page,
+// the `update` frame of viewer/protocol.md holding only what changed since that page's
+// last frame.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/occupancy_grid.h"
+#include "common/pose2d.h"
+#include "common/pose_graph.h"
+#include "common/sensor_types.h"
+#include "frontier/frontier.h"
+
+namespace aslam {
+
+// One frontier's utility terms, as UTILITY_SCORES carries them.
+struct ViewerScoreRow {
+  int frontier_id = -1;
+  Point2d target_m;
+  double path_length_m = 0.0;
+  double u1 = 0.0;
+  double mean_entropy_bits = 0.0;  // Ē
+  int ray_cells = 0;               // K
+  double gamma = 0.0;
+  double rho = 0.0;
+  double u2 = 0.0;
+  double total = 0.0;  // not finite for an ineligible frontier
+  bool eligible = false;
+  std::string reason;  // why not eligible: too_close, unreachable, blacklisted, too_far
+  bool chosen = false;
+};
+
+struct ViewerScores {
+  int64_t decision_id = 0;
+  std::string method;
+  int chosen_frontier_id = -1;
+  std::vector<ViewerScoreRow> rows;
+};
+
+struct ViewerNav {
+  std::string state;  // idle, active, reached, failed, unreachable
+  int64_t goal_id = -1;
+  Point2d goal_m;
+  double distance_remaining_m = -1.0;
+  std::string detail;
+};
+
+struct ViewerExplore {
+  std::string state;  // waiting, exploring, done, paused, returning, stopped
+  std::string detail;
+  std::string method;
+  int64_t current_goal_id = -1;
+  int num_frontiers = 0;
+  int num_eligible = 0;
+  int decisions = 0;
+  int goals_reached = 0;
+  int goals_failed = 0;
+};
+
+struct ViewerProcess {
+  std::string name;
+  std::string host;  // the deputy
+  std::string state;
+  int pid = 0;
+  int restarts = 0;
+  int last_exit = 0;
+  double cpu_percent = 0.0;
+  double rss_mb = 0.0;
+};
+
+// What one page has been sent so far (Update() advances it).
+struct ViewerCursor {
+  bool reset_pending = true;  // the next frame starts the page afresh
+  std::optional<OccupancyGrid> map;  // the grid as the page has it (quantized)
+  int64_t map_revision = -1;
+  uint64_t graph_version = 0;
+  std::size_t trail_sent = 0;  // poses since the newest keyframe already sent
+  uint64_t pose_version = 0;
+  uint64_t scan_version = 0;
+  uint64_t frontiers_version = 0;
+  uint64_t scores_version = 0;
+  uint64_t nav_version = 0;
+  uint64_t path_version = 0;
+  uint64_t explore_version = 0;
+  uint64_t processes_version = 0;
+  std::size_t series_sent = 0;
+};
+
+class ViewerModel {
+ public:
+  // Side of the square map tiles sent to pages, in cells.
+  static constexpr int kTileCells = 64;
+
+  // Inputs; time is each message's utime ("map" frame throughout).
+  void OnMap(const OccupancyGrid& grid, int64_t revision, int64_t utime);
+  void OnPose(const StampedPose& pose);
+  // Placed in "map" by the newest pose (a viewer's approximation: no interpolation).
+  void OnScan(const LidarScan& scan);
+  void OnGraph(const PoseGraph& graph, int64_t utime);
+  void OnFrontiers(const FrontierList& frontiers);
+  void OnScores(ViewerScores scores, int64_t utime);
+  void OnNavStatus(ViewerNav nav, int64_t utime);
+  void OnNavPath(std::vector<Point2d> path_m, int64_t utime);
+  void OnExploreStatus(ViewerExplore status, int64_t utime);
+  // PROCMAN_STATUS of one deputy (wall-clock time, so it does not move t_s).
+  void OnProcesses(const std::string& deputy, std::vector<ViewerProcess> processes);
+
+  // The `update` frame for a page at `cursor`, or "" when nothing changed for it.
+  std::string Update(ViewerCursor* cursor) const;
+
+  // Message time of the newest input, seconds after the first.
+  double t_s() const;
+  // [t_s, known area m², mean edge D-optimality (NaN without edges)] once per second.
+  const std::vector<std::array<double, 3>>& series() const { return series_; }
+  const std::optional<FrontierList>& frontiers() const { return frontiers_; }
+
+ private:
+  void Advance(int64_t utime);
+  std::string MapJson(ViewerCursor* cursor) const;
+
+  std::optional<int64_t> first_utime_;
+  int64_t latest_utime_ = 0;
+  uint64_t version_ = 0;  // bumped by every change; each part keeps the version of its last
+
+  std::optional<OccupancyGrid> map_;  // quantized as sent
+  int64_t map_revision_ = 0;
+  double known_area_m2_ = 0.0;
+
+  std::optional<StampedPose> pose_;
+  uint64_t pose_version_ = 0;
+  std::vector<Point2d> trail_since_graph_m_;  // poses after the newest keyframe, 5 cm apart
+
+  std::vector<Point2d> scan_m_;
+  uint64_t scan_version_ = 0;
+
+  std::vector<Point2d> nodes_m_;
+  std::vector<std::array<int, 3>> edges_;  // from index, to index, kind
+  uint64_t graph_version_ = 0;
+  double mean_edge_d_opt_ = 0.0;  // NaN without edges
+
+  std::optional<FrontierList> frontiers_;
+  uint64_t frontiers_version_ = 0;
+  std::optional<ViewerScores> scores_;
+  uint64_t scores_version_ = 0;
+  std::optional<ViewerNav> nav_;
+  uint64_t nav_version_ = 0;
+  std::vector<Point2d> path_m_;
+  uint64_t path_version_ = 0;
+  std::optional<ViewerExplore> explore_;
+  uint64_t explore_version_ = 0;
+  std::map<std::string, std::vector<ViewerProcess>> processes_;  // by deputy
+  uint64_t processes_version_ = 0;
+
+  std::vector<std::array<double, 3>> series_;
+  int64_t next_series_utime_ = 0;
+};
+
+}  // namespace aslam
