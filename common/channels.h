@@ -16,6 +16,7 @@ inline constexpr const char* kFrontiers = "FRONTIERS";
 inline constexpr const char* kUtilityScores = "UTILITY_SCORES";
 inline constexpr const char* kExploreGoal = "EXPLORE_GOAL";
 inline constexpr const char* kExploreStatus = "EXPLORE_STATUS";
+inline constexpr const char* kExploreControl = "EXPLORE_CONTROL";
 inline constexpr const char* kNavStatus = "NAV_STATUS";
 inline constexpr const char* kNavPath = "NAV_PATH";
 inline constexpr const char* kProcmanOrders = "PROCMAN_ORDERS";

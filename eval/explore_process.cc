@@ -290,7 +290,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
       on_progress(progress());
       while (next_progress_us <= now_us) next_progress_us += progress_us;
     }
-    if (listener.done() || now_us >= end_us) break;
+    if (listener.done() || listener.stopped() || now_us >= end_us) break;
     if (stop && stop->load()) {
       interrupted = true;
       break;
@@ -350,6 +350,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   m.processes = processes.processes();
   m.end_reason = lost_process                                    ? "process-failed"
                  : m.done                                        ? "done"
+                 : listener.stopped()                            ? "stopped"
                  : interrupted                                   ? "interrupted"
                  : sim_s >= ex.duration_s - 1.0 || !deputy_ended ? "duration"
                                                                  : "procman-exited";

@@ -167,7 +167,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
           interrupted = true;
           return false;
         }
-        return !listener.done();
+        return !listener.done() && !listener.stopped();
       });
   const double wall_s = wall_seconds();
   const double sim_s = simulator.utime() * 1e-6;
@@ -193,7 +193,10 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   m.goals_failed = utility_node.goals_failed();
   m.decisions = utility_node.decisions();
   m.done = listener.done();
-  m.end_reason = m.done ? "done" : interrupted ? "interrupted" : "duration";
+  m.end_reason = m.done               ? "done"
+                 : listener.stopped() ? "stopped"
+                 : interrupted        ? "interrupted"
+                                      : "duration";
   if (on_progress) on_progress(listener.FinalProgress(m, sim_s, wall_s));
   return result;
 }

@@ -112,8 +112,9 @@ struct RunMetrics {
   int goals_failed = 0;
   int decisions = 0;
   bool done = false;  // EXPLORE_STATUS said done
-  // done | duration | interrupted; process mode also process-failed (a process ended and
-  // procman will not bring it back) and procman-exited (the deputy ended before the run did)
+  // done | stopped (EXPLORE_CONTROL) | duration | interrupted; process mode also process-failed (a
+  // process ended and procman will not bring it back) and procman-exited (the deputy ended before
+  // the run did)
   std::string end_reason;
   std::optional<double> time_to_90_coverage_s;  // first sample at >= 0.9
   double free_area_m2 = 0.0;                    // ground-truth free area

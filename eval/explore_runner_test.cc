@@ -1,6 +1,7 @@
 #include "eval/explore_runner.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "common/config.h"
 #include "common/map_io.h"
 #include "eval/run_outputs.h"
 #include "slam/g2o_io.h"
@@ -185,6 +187,34 @@ TEST(ExploreRunnerTest, StopFlagEndsTheRunEarlyWithResults) {
   EXPECT_GT(r.metrics.coverage, 0.1);
   ASSERT_FALSE(r.coverage.empty());
   EXPECT_NEAR(r.coverage.back().coverage, r.metrics.coverage, 1e-12);
+}
+
+// utility.return_home (aslam explore --return-home): done only once the robot is back at the
+// start; the same run without it ends where the last frontier was.
+TEST(ExploreRunnerTest, ReturnHomeEndsDoneAtTheStart) {
+  const ExploreResult away = RunExploreInProcess(TestWorld("fd"));
+  ASSERT_TRUE(away.metrics.done);
+  ASSERT_GE(away.slam_path.size(), 2u);
+  const auto distance_from_start = [](const ExploreResult& r) {
+    return std::hypot(r.slam_path.back().x_m - r.slam_path.front().x_m,
+                      r.slam_path.back().y_m - r.slam_path.front().y_m);
+  };
+  ASSERT_GT(distance_from_start(away), 1.0) << "the test world's last frontier is at the start";
+
+  ExploreOptions o = TestWorld("fd");
+  const std::string config = ::testing::TempDir() + "return_home.yaml";
+  std::ofstream(config) << ApplyConfigOverrides(o.config_file,
+                                                {ParseConfigOverride("utility.return_home=true")});
+  o.config_file = config;
+  const ExploreResult home = RunExploreInProcess(o);
+  EXPECT_TRUE(home.metrics.done);
+  EXPECT_EQ(home.metrics.end_reason, "done");
+  EXPECT_EQ(home.metrics.collisions, 0);
+  EXPECT_GT(home.metrics.sim_seconds, away.metrics.sim_seconds);  // the way back took time
+  EXPECT_LT(distance_from_start(home), 0.5);  // within the navigator's goal tolerance
+  EXPECT_GE(home.metrics.coverage, 0.95);
+  std::printf("[ measured ] return home: done at %.1f s (%.1f s without), %.2f m from the start\n",
+              home.metrics.sim_seconds, away.metrics.sim_seconds, distance_from_start(home));
 }
 
 TEST(ExploreRunnerTest, DurationEndsTheRun) {

@@ -83,6 +83,7 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
   subscriptions_.Add<explore_status_t>(channels::kExploreStatus, [this](const explore_status_t& m) {
     status_ = m;
     if (m.state == explore_status_t::STATE_DONE) done_ = true;
+    if (m.state == explore_status_t::STATE_STOPPED) stopped_ = true;
     return true;
   });
   subscriptions_.Add<explore_goal_t>(channels::kExploreGoal, [this](const explore_goal_t& m) {

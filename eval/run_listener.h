@@ -52,6 +52,8 @@ class RunListener {
   int loop_closures() const { return loop_closures_; }
   int64_t collisions() const { return collisions_; }
   bool done() const { return done_; }
+  // Ended by EXPLORE_CONTROL (stop, or return home on request).
+  bool stopped() const { return stopped_; }
 
  private:
   struct PathPoint {
@@ -80,6 +82,7 @@ class RunListener {
   int loop_closures_ = 0;
   int64_t collisions_ = 0;
   bool done_ = false;
+  bool stopped_ = false;
 };
 
 // The start pose of a run: --start if given (it must lie on a free cell),

@@ -2,7 +2,8 @@
 
 // The exploration state machine (docs/architecture.md §9): when a decision is due, goal ids,
 // the blacklist of reached and failed targets, re-sending a goal the navigator missed,
-// cancelling a goal nothing replaces, the done timeout, the counters and the status.
+// cancelling a goal nothing replaces, the done timeout, the counters and the status; and
+// the user's requests (EXPLORE_CONTROL): pause, resume, stop, return to the start.
 // On value types: no LCM and no clock; time is the utimes of the inputs.
 //
 // Every On* call returns the actions to carry out, in this order:
@@ -32,13 +33,24 @@ struct ExplorationOptions {
   UtilityMethod method = UtilityMethod::kOurs;  // ags and ours wait for a pose graph
   // No eligible frontier for this long (message time) and the status says done.
   double done_timeout_s = 10.0;
+  // When done, drive back to the exploration's start first; the status says done once there
+  // (or once the way back has failed kReturnHomeAttempts times).
+  bool return_home = false;
 
   // Throws std::invalid_argument naming the field and value.
   void Validate() const;
 };
 
-enum class ExploreState { kWaiting, kExploring, kDone };
+enum class ExploreState { kWaiting, kExploring, kDone, kPaused, kReturning, kStopped };
 const char* ExploreStateName(ExploreState state);
+
+// An EXPLORE_CONTROL request.
+enum class ExploreCommand { kPause, kResume, kStop, kReturnHome };
+const char* ExploreCommandName(ExploreCommand command);  // "pause", ..., "return_home"
+std::optional<ExploreCommand> ParseExploreCommand(const std::string& name);
+
+// Tries at driving home before the exploration ends without getting there.
+inline constexpr int kReturnHomeAttempts = 3;
 
 // What EXPLORE_STATUS carries.
 struct ExploreStatus {
@@ -76,15 +88,28 @@ struct ExploreActions {
   std::optional<ExploreStatus> status;
 };
 
+// Where the user's requests have put the exploration.
+enum class ControlMode {
+  kExploring,  // as the frontiers say (waiting, exploring or done)
+  kPaused,
+  kReturning,  // driving to the start
+  kEnded       // stopped by request, or done after returning home
+};
+
 // What an exploration has done so far, kept across a restart of the utility process:
-// the counters, the next goal id (so a new goal never reuses one the navigator knows)
-// and the blacklist.
+// the counters, the next goal id (so a new goal never reuses one the navigator knows),
+// the blacklist, the start, and the user's requests (a paused robot stays paused).
 struct ExplorationRecord {
   int decisions = 0;
   int goals_reached = 0;
   int goals_failed = 0;
   int64_t next_goal_id = 0;
   std::vector<Point2d> blacklist_m;
+  std::optional<Point2d> home_m;  // the first SLAM_POSE ("map"); none before it
+  ControlMode mode = ControlMode::kExploring;
+  bool paused_while_returning = false;  // what RESUME goes back to
+  bool ends_done = false;  // kReturning, kEnded: done (return_home) rather than stopped
+  std::string end_detail;  // kEnded: why, as EXPLORE_STATUS says it
   bool operator==(const ExplorationRecord& other) const;
 };
 
@@ -99,6 +124,10 @@ class ExplorationManager {
   ExploreActions OnGraph(PoseGraph graph, int64_t utime);
   ExploreActions OnFrontiers(FrontierList frontiers);
   ExploreActions OnNavStatus(const NavStatus& status);
+  // An EXPLORE_CONTROL request, acted on at the latest input's time (a request's own stamp
+  // may come from another clock). A request that does not apply (resume while exploring,
+  // anything but return_home once ended) changes nothing; the status says the state.
+  ExploreActions OnControl(ExploreCommand command);
   // The GoalSelector's answer to the pending DecisionRequest.
   ExploreActions OnDecision(const GoalDecision& decision);
 
@@ -111,6 +140,9 @@ class ExplorationManager {
   const std::vector<Frontier>& frontiers() const { return frontiers_->frontiers; }
   // Targets of reached and failed goals ("map"); never shrinks.
   const std::vector<Point2d>& blacklist_m() const { return blacklist_m_; }
+  // Where the exploration started: the first SLAM_POSE ("map"), where return home drives to.
+  const std::optional<Point2d>& home_m() const { return home_m_; }
+  ControlMode mode() const { return mode_; }
 
   ExplorationRecord record() const;
   // Continues the counters, goal ids and blacklist of an earlier run (before any input).
@@ -120,7 +152,7 @@ class ExplorationManager {
   int decisions() const { return decisions_; }
   int goals_reached() const { return goals_reached_; }
   int goals_failed() const { return goals_failed_; }
-  // -1 when no goal is being pursued.
+  // -1 when no goal is being pursued (a goal home included).
   int64_t current_goal_id() const { return goal_ ? goal_->goal_id : -1; }
   // The status as of the latest input (published at decisions and at 1 Hz of message time).
   ExploreStatus status() const;
@@ -133,8 +165,20 @@ class ExplorationManager {
     int64_t published_utime = 0;
   };
 
-  // After every accepted input: the pending decision if Ready, else the status heartbeat.
+  // After every accepted input: takes in its time, then Next().
   ExploreActions AfterInput(int64_t utime);
+  // The pending decision if Ready, else the status heartbeat; with return_home, the goal
+  // home once the exploration is complete.
+  ExploreActions Next();
+  // With return_home and the exploration complete: the goal home (ending done).
+  std::optional<ExploreGoal> ReturnIfComplete();
+  // No eligible frontier for done_timeout_s while exploring.
+  bool ExplorationComplete() const;
+  // Returning: a goal to home_m_ (known) with a new id.
+  std::optional<ExploreGoal> GoHome();
+  void End(bool done, std::string detail);
+  // The cancel of the active goal, which is then dropped (not counted, not blacklisted).
+  std::optional<ExploreGoal> CancelGoal();
   std::string MissingInputs() const;
   // The active goal as EXPLORE_GOAL, stamped now.
   ExploreGoal PublishGoal();
@@ -163,6 +207,13 @@ class ExplorationManager {
   int decisions_ = 0;
   int goals_reached_ = 0;
   int goals_failed_ = 0;
+
+  std::optional<Point2d> home_m_;
+  ControlMode mode_ = ControlMode::kExploring;
+  bool paused_while_returning_ = false;
+  bool ends_done_ = false;  // as ExplorationRecord::ends_done
+  int return_attempts_ = 0;
+  std::string end_detail_;
 };
 
 }  // namespace aslam

@@ -403,5 +403,203 @@ TEST(ExplorationManager, StatusHeartbeatAtOneHertzOfMessageTime) {
   EXPECT_TRUE(m.OnPose(StampedPose{4'500'000, {}, 0.0, 0.0}).status.has_value());
 }
 
+// --- EXPLORE_CONTROL: pause, resume, stop, return to the start --------------------------------
+
+ExplorationManager ReturningHomeManager(double done_timeout_s = 10.0) {
+  return ExplorationManager(ExplorationOptions{UtilityMethod::kFd, done_timeout_s, true});
+}
+
+TEST(ExplorationManager, PauseCancelsTheGoalUncountedAndStopsDecidingUntilResume) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  const ExploreActions paused = m.OnControl(ExploreCommand::kPause);
+  ASSERT_TRUE(paused.goal.has_value());
+  EXPECT_TRUE(paused.goal->cancel);
+  EXPECT_EQ(paused.goal->goal_id, 0);
+  ASSERT_TRUE(paused.status.has_value());  // the answer to the request
+  EXPECT_EQ(paused.status->state, ExploreState::kPaused);
+  EXPECT_EQ(m.current_goal_id(), -1);
+  EXPECT_EQ(m.goals_failed(), 0);        // a pause is not a failure
+  EXPECT_TRUE(m.blacklist_m().empty());  // and the target stays eligible
+
+  // New frontiers and the navigator's report of the cancelled goal decide nothing.
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(2 * kSecond, {9})).decision.has_value());
+  EXPECT_FALSE(m.OnNavStatus(Nav(3 * kSecond, 0, NavState::kIdle)).decision.has_value());
+  // Paused for longer than the done timeout: still paused, never done.
+  m.OnPose(StampedPose{30 * kSecond, {1.0, 1.0, 0.0}, 0.0, 0.0});
+  EXPECT_EQ(m.status().state, ExploreState::kPaused);
+  EXPECT_FALSE(m.OnControl(ExploreCommand::kPause).goal.has_value());  // twice: nothing new
+
+  const ExploreActions resumed = m.OnControl(ExploreCommand::kResume);
+  ASSERT_TRUE(resumed.decision.has_value());  // decides again at once
+  EXPECT_EQ(resumed.decision->utime, 30 * kSecond);
+  const ExploreActions goal = m.OnDecision(Chose(9, kFar));
+  ASSERT_TRUE(goal.goal.has_value());
+  EXPECT_EQ(goal.goal->goal_id, 1);  // a new id: the navigator knows 0
+  EXPECT_EQ(m.status().state, ExploreState::kExploring);
+}
+
+TEST(ExplorationManager, ResumeWhileExploringChangesNothing) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  const ExploreActions a = m.OnControl(ExploreCommand::kResume);
+  EXPECT_FALSE(a.goal.has_value());
+  EXPECT_FALSE(a.decision.has_value());
+  EXPECT_EQ(m.current_goal_id(), 0);
+  EXPECT_EQ(a.status->state, ExploreState::kExploring);
+}
+
+TEST(ExplorationManager, StopCancelsAndEndsForGood) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  const ExploreActions stopped = m.OnControl(ExploreCommand::kStop);
+  ASSERT_TRUE(stopped.goal.has_value());
+  EXPECT_TRUE(stopped.goal->cancel);
+  EXPECT_EQ(stopped.status->state, ExploreState::kStopped);
+  EXPECT_EQ(stopped.status->detail, "stopped by request");
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(2 * kSecond, {9})).decision.has_value());
+  EXPECT_FALSE(m.OnControl(ExploreCommand::kResume).decision.has_value());
+  EXPECT_FALSE(m.OnControl(ExploreCommand::kPause).goal.has_value());
+  EXPECT_EQ(m.status().state, ExploreState::kStopped);
+}
+
+TEST(ExplorationManager, ReturnHomeDrivesToTheFirstPoseThenStops) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);  // the first pose was (1, 1)
+  m.OnPose(StampedPose{2 * kSecond, {5.0, 3.0, 0.0}, 0.0, 0.0});
+  ASSERT_TRUE(m.home_m().has_value());
+  EXPECT_DOUBLE_EQ(m.home_m()->x_m, 1.0);
+
+  const ExploreActions back = m.OnControl(ExploreCommand::kReturnHome);
+  ASSERT_TRUE(back.goal.has_value());
+  EXPECT_FALSE(back.goal->cancel);
+  EXPECT_EQ(back.goal->goal_id, 1);  // replaces goal 0
+  EXPECT_DOUBLE_EQ(back.goal->target_m.x_m, 1.0);
+  EXPECT_DOUBLE_EQ(back.goal->target_m.y_m, 1.0);
+  EXPECT_EQ(back.goal->frontier_id, -1);
+  EXPECT_EQ(back.status->state, ExploreState::kReturning);
+
+  // Frontiers that vanish and goal 0's late report do not turn it back into exploring.
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(2'200'000, {})).decision.has_value());
+  // (Within 1 s of the goal home: no resend of it either.)
+  EXPECT_FALSE(m.OnNavStatus(Nav(2'500'000, 0, NavState::kFailed)).goal.has_value());
+  EXPECT_EQ(m.goals_failed(), 0);
+  EXPECT_EQ(m.status().state, ExploreState::kReturning);
+
+  m.OnNavStatus(Nav(40 * kSecond, 1, NavState::kReached));
+  EXPECT_EQ(m.status().state, ExploreState::kStopped);  // a request ended it, not the frontiers
+  EXPECT_EQ(m.status().detail, "returned to the start (1.00, 1.00)");
+  EXPECT_EQ(m.goals_reached(), 0);  // the way home is no exploration goal
+  EXPECT_EQ(m.current_goal_id(), -1);
+}
+
+TEST(ExplorationManager, TheWayHomeIsTriedThreeTimesThenTheExplorationEnds) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  int64_t goal_id = m.OnControl(ExploreCommand::kReturnHome).goal->goal_id;
+  for (int attempt = 1; attempt < kReturnHomeAttempts; ++attempt) {
+    NavStatus failed = Nav((10 + attempt) * kSecond, goal_id, NavState::kUnreachable);
+    failed.detail = "no path";
+    const ExploreActions again = m.OnNavStatus(failed);
+    ASSERT_TRUE(again.goal.has_value()) << "attempt " << attempt;
+    EXPECT_EQ(again.goal->goal_id, goal_id + 1);
+    goal_id = again.goal->goal_id;
+    EXPECT_EQ(m.status().state, ExploreState::kReturning);
+  }
+  NavStatus failed = Nav(20 * kSecond, goal_id, NavState::kFailed);
+  failed.detail = "stuck";
+  EXPECT_FALSE(m.OnNavStatus(failed).goal.has_value());
+  EXPECT_EQ(m.status().state, ExploreState::kStopped);
+  EXPECT_EQ(m.status().detail, "could not return to the start in 3 attempts: stuck");
+}
+
+TEST(ExplorationManager, PauseOnTheWayHomeResumesTheWayHome) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  m.OnControl(ExploreCommand::kReturnHome);
+  const ExploreActions paused = m.OnControl(ExploreCommand::kPause);
+  ASSERT_TRUE(paused.goal.has_value());
+  EXPECT_TRUE(paused.goal->cancel);
+  EXPECT_EQ(m.status().detail, "paused on the way to the start");
+  const ExploreActions resumed = m.OnControl(ExploreCommand::kResume);
+  ASSERT_TRUE(resumed.goal.has_value());
+  EXPECT_FALSE(resumed.goal->cancel);
+  EXPECT_DOUBLE_EQ(resumed.goal->target_m.x_m, 1.0);
+  EXPECT_FALSE(resumed.decision.has_value());
+  EXPECT_EQ(m.status().state, ExploreState::kReturning);
+}
+
+TEST(ExplorationManager, ReturnHomeBeforeAnyPoseEndsAtOnce) {
+  ExplorationManager m = Manager();
+  const ExploreActions a = m.OnControl(ExploreCommand::kReturnHome);
+  EXPECT_FALSE(a.goal.has_value());
+  EXPECT_EQ(a.status->state, ExploreState::kStopped);
+  EXPECT_EQ(m.status().detail, "no pose yet, so the robot is still at the start");
+}
+
+TEST(ExplorationManager, WithReturnHomeDoneDrivesToTheStartFirst) {
+  ExplorationManager m = ReturningHomeManager(/*done_timeout_s=*/5.0);
+  FirstGoal(m);
+  m.OnPose(StampedPose{2 * kSecond, {6.0, 2.0, 0.0}, 0.0, 0.0});
+  // Frontier 7 is reached and nothing else is eligible.
+  ASSERT_TRUE(m.OnNavStatus(Nav(3 * kSecond, 0, NavState::kReached)).decision.has_value());
+  EXPECT_FALSE(m.OnDecision(NoGoal()).goal.has_value());
+  EXPECT_FALSE(m.OnPose(StampedPose{7 * kSecond, {6.0, 2.0, 0.0}, 0.0, 0.0}).goal.has_value());
+  EXPECT_EQ(m.status().state, ExploreState::kExploring);  // not done before the timeout
+
+  const ExploreActions home = m.OnPose(StampedPose{8 * kSecond, {6.0, 2.0, 0.0}, 0.0, 0.0});
+  ASSERT_TRUE(home.goal.has_value());  // instead of done: the way home
+  EXPECT_DOUBLE_EQ(home.goal->target_m.x_m, 1.0);
+  ASSERT_TRUE(home.status.has_value());
+  EXPECT_EQ(home.status->state, ExploreState::kReturning);
+  m.OnNavStatus(Nav(30 * kSecond, home.goal->goal_id, NavState::kReached));
+  EXPECT_EQ(m.status().state, ExploreState::kDone);  // done, at the start
+  EXPECT_EQ(m.status().detail, "returned to the start (1.00, 1.00)");
+}
+
+TEST(ExplorationManager, WithReturnHomeAndNoTimeoutTheLastDecisionSendsTheRobotHome) {
+  ExplorationManager m = ReturningHomeManager(/*done_timeout_s=*/0.0);
+  FirstGoal(m);
+  m.OnFrontiers(Frontiers(2 * kSecond, {}));  // frontier 7 vanished
+  const ExploreActions a = m.OnDecision(NoGoal());
+  ASSERT_TRUE(a.goal.has_value());
+  EXPECT_FALSE(a.goal->cancel);  // the goal home replaces goal 0
+  EXPECT_EQ(a.goal->goal_id, 1);
+  EXPECT_EQ(a.status->state, ExploreState::kReturning);  // never reported done on the way
+}
+
+TEST(ExplorationManager, RequestsAndTheWayHomeSurviveARestart) {
+  ExplorationManager before = Manager();
+  FirstGoal(before);
+  before.OnControl(ExploreCommand::kReturnHome);
+  const ExplorationRecord record = before.record();
+  EXPECT_EQ(record.mode, ControlMode::kReturning);
+
+  ExplorationManager after = Manager();
+  after.Restore(record);
+  EXPECT_TRUE(after.record() == record);
+  EXPECT_EQ(after.status().state, ExploreState::kReturning);
+  // The first input after the restart sends the goal home again, with an id not yet used.
+  const ExploreActions again = after.OnPose(StampedPose{50 * kSecond, {3.0, 3.0, 0.0}, 0.0, 0.0});
+  ASSERT_TRUE(again.goal.has_value());
+  EXPECT_GE(again.goal->goal_id, record.next_goal_id);
+  EXPECT_DOUBLE_EQ(again.goal->target_m.x_m, 1.0);  // the start before the restart
+  EXPECT_DOUBLE_EQ(after.home_m()->x_m, 1.0);
+  after.OnMap(OccupancyGrid(2, 2, 0.1, {0.0, 0.0}), 51 * kSecond);
+  EXPECT_FALSE(after.OnFrontiers(Frontiers(52 * kSecond, {7})).decision.has_value());
+
+  ExplorationRecord paused_without_home = record;
+  paused_without_home.home_m.reset();
+  EXPECT_THROW(Manager().Restore(paused_without_home), std::invalid_argument);
+}
+
+TEST(ExplorationManager, CommandNamesRoundTrip) {
+  for (const ExploreCommand c : {ExploreCommand::kPause, ExploreCommand::kResume,
+                                 ExploreCommand::kStop, ExploreCommand::kReturnHome}) {
+    EXPECT_EQ(ParseExploreCommand(ExploreCommandName(c)), c);
+  }
+  EXPECT_EQ(ParseExploreCommand("home"), std::nullopt);
+}
+
 }  // namespace
 }  // namespace aslam

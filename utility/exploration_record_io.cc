@@ -5,8 +5,26 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace aslam {
+namespace {
+
+constexpr std::pair<ControlMode, const char*> kModeNames[] = {
+    {ControlMode::kExploring, "exploring"},
+    {ControlMode::kPaused, "paused"},
+    {ControlMode::kReturning, "returning"},
+    {ControlMode::kEnded, "ended"},
+};
+
+const char* ModeName(ControlMode mode) {
+  for (const auto& [m, name] : kModeNames) {
+    if (m == mode) return name;
+  }
+  return "?";
+}
+
+}  // namespace
 
 std::string ExplorationRecordToYaml(const ExplorationRecord& record) {
   std::ostringstream out;
@@ -22,6 +40,12 @@ std::string ExplorationRecordToYaml(const ExplorationRecord& record) {
         << "]";
   }
   out << "]\n";
+  if (record.home_m)
+    out << "home_m: [" << record.home_m->x_m << ", " << record.home_m->y_m << "]\n";
+  out << "mode: " << ModeName(record.mode) << "\n"
+      << "paused_while_returning: " << (record.paused_while_returning ? "true" : "false") << "\n"
+      << "ends_done: " << (record.ends_done ? "true" : "false") << "\n"
+      << "end_detail: " << YAML::Dump(YAML::Node(record.end_detail)) << "\n";
   return out.str();
 }
 
@@ -32,8 +56,10 @@ ExplorationRecord LoadExplorationRecord(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(path + ": cannot read the utility state: " + e.what());
   }
-  auto read = [&](const char* key, auto* value) {
+  // Keys from before EXPLORE_CONTROL (home_m, mode, ...) are optional: older files still load.
+  auto read = [&](const char* key, auto* value, bool optional = false) {
     const YAML::Node node = root[key];
+    if (!node && optional) return;
     try {
       if (!node) throw std::runtime_error("missing");
       *value = node.as<std::remove_pointer_t<decltype(value)>>();
@@ -55,6 +81,30 @@ ExplorationRecord LoadExplorationRecord(const std::string& path) {
     }
     record.blacklist_m.push_back({p[0], p[1]});
   }
+  std::vector<double> home;
+  read("home_m", &home, /*optional=*/true);
+  if (!home.empty()) {
+    if (home.size() != 2 || !std::isfinite(home[0]) || !std::isfinite(home[1])) {
+      throw std::runtime_error(path + ": key home_m: must be [x, y], finite");
+    }
+    record.home_m = Point2d{home[0], home[1]};
+  }
+  std::string mode = ModeName(record.mode);
+  read("mode", &mode, /*optional=*/true);
+  bool known_mode = false;
+  for (const auto& [m, name] : kModeNames) {
+    if (mode == name) record.mode = m, known_mode = true;
+  }
+  if (!known_mode) {
+    throw std::runtime_error(path + ": key mode: '" + mode +
+                             "': expected exploring, paused, returning or ended");
+  }
+  read("paused_while_returning", &record.paused_while_returning, /*optional=*/true);
+  if ((record.mode == ControlMode::kReturning || record.paused_while_returning) && !record.home_m) {
+    throw std::runtime_error(path + ": key home_m: missing, and the way home needs it");
+  }
+  read("ends_done", &record.ends_done, /*optional=*/true);
+  read("end_detail", &record.end_detail, /*optional=*/true);
   if (record.decisions < 0 || record.goals_reached < 0 || record.goals_failed < 0 ||
       record.next_goal_id < 0) {
     throw std::runtime_error(path + ": counts and next_goal_id must be >= 0");

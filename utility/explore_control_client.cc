@@ -37,8 +37,7 @@ std::string DescribeExploreStatus(const explore_status_t& status) {
   const std::optional<ExploreState> state = ExploreStateFromLcm(status.state);
   return Format("%s: %s (%s, %d decisions, %d goals reached, %d failed)",
                 state ? ExploreStateName(*state) : "unknown state", status.detail.c_str(),
-                status.method.c_str(), status.decisions, status.goals_reached,
-                status.goals_failed);
+                status.method.c_str(), status.decisions, status.goals_reached, status.goals_failed);
 }
 
 }  // namespace aslam

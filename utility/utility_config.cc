@@ -53,6 +53,7 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
   u.ReadInRange("max_path_length_m", &s.max_path_length_m, 0.0, 1e6);
   u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
+  u.Read("return_home", &options.return_home);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 

@@ -18,6 +18,8 @@ struct UtilityOptions {
   GoalSelectorOptions selector;
   // No eligible frontier for this long (message time) and EXPLORE_STATUS says done.
   double done_timeout_s = 10.0;
+  // When done, drive back to the exploration's start, then say done (aslam explore --return-home).
+  bool return_home = false;
 };
 
 // Reads and validates the `utility` section, planning as `nav` does; throws

@@ -1,5 +1,7 @@
 #include "utility/utility_lcm.h"
 
+#include <chrono>
+
 #include "common/types_lcm.h"
 
 namespace aslam {
@@ -55,16 +57,48 @@ int8_t ExploreStateToLcm(ExploreState state) {
     case ExploreState::kWaiting: return explore_status_t::STATE_WAITING;
     case ExploreState::kExploring: return explore_status_t::STATE_EXPLORING;
     case ExploreState::kDone: return explore_status_t::STATE_DONE;
+    case ExploreState::kPaused: return explore_status_t::STATE_PAUSED;
+    case ExploreState::kReturning: return explore_status_t::STATE_RETURNING;
+    case ExploreState::kStopped: return explore_status_t::STATE_STOPPED;
   }
   return explore_status_t::STATE_WAITING;  // unreachable: every state is listed
 }
 
 std::optional<ExploreState> ExploreStateFromLcm(int8_t code) {
   for (const ExploreState state :
-       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone}) {
+       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone,
+        ExploreState::kPaused, ExploreState::kReturning, ExploreState::kStopped}) {
     if (ExploreStateToLcm(state) == code) return state;
   }
   return std::nullopt;
+}
+
+int8_t ExploreCommandToLcm(ExploreCommand command) {
+  switch (command) {
+    case ExploreCommand::kPause: return explore_control_t::PAUSE;
+    case ExploreCommand::kResume: return explore_control_t::RESUME;
+    case ExploreCommand::kStop: return explore_control_t::STOP;
+    case ExploreCommand::kReturnHome: return explore_control_t::RETURN_HOME;
+  }
+  return explore_control_t::PAUSE;  // unreachable: every command is listed
+}
+
+std::optional<ExploreCommand> ExploreCommandFromLcm(int8_t code) {
+  for (const ExploreCommand command : {ExploreCommand::kPause, ExploreCommand::kResume,
+                                       ExploreCommand::kStop, ExploreCommand::kReturnHome}) {
+    if (ExploreCommandToLcm(command) == code) return command;
+  }
+  return std::nullopt;
+}
+
+explore_control_t ExploreControlMessage(ExploreCommand command, const std::string& source) {
+  explore_control_t msg{};
+  msg.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                  std::chrono::system_clock::now().time_since_epoch())
+                  .count();
+  msg.command = ExploreCommandToLcm(command);
+  msg.source = source;
+  return msg;
 }
 
 explore_status_t ToLcm(const ExploreStatus& status) {

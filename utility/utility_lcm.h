@@ -6,7 +6,9 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 
+#include "aslam/explore_control_t.hpp"
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/explore_status_t.hpp"
 #include "aslam/utility_scores_t.hpp"
@@ -25,5 +27,10 @@ explore_status_t ToLcm(const ExploreStatus& status);
 // explore_status_t's state code for `state`, and back (nullopt for an unknown code).
 int8_t ExploreStateToLcm(ExploreState state);
 std::optional<ExploreState> ExploreStateFromLcm(int8_t code);
+// explore_control_t's command code for `command`, and back (nullopt for an unknown code).
+int8_t ExploreCommandToLcm(ExploreCommand command);
+std::optional<ExploreCommand> ExploreCommandFromLcm(int8_t code);
+// An EXPLORE_CONTROL request from `source`, stamped with the wall clock.
+explore_control_t ExploreControlMessage(ExploreCommand command, const std::string& source);
 
 }  // namespace aslam

@@ -20,7 +20,8 @@ namespace aslam {
 UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
     : lcm_(lcm),
       selector_(options.selector),
-      manager_(ExplorationOptions{options.selector.method, options.done_timeout_s}),
+      manager_(
+          ExplorationOptions{options.selector.method, options.done_timeout_s, options.return_home}),
       subscriptions_(lcm) {
   AddMapSubscription(subscriptions_, channels::kSlamMap,
                      [this](MapMessage m) { return OnMap(std::move(m)); });
@@ -31,6 +32,8 @@ UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
                                       [this](const frontier_list_t& m) { return OnFrontiers(m); });
   subscriptions_.Add<nav_status_t>(channels::kNavStatus,
                                    [this](const nav_status_t& m) { return OnNavStatus(m); });
+  subscriptions_.Add<explore_control_t>(
+      channels::kExploreControl, [this](const explore_control_t& m) { return OnControl(m); });
 }
 
 bool UtilityNode::OnMap(MapMessage msg) {
@@ -68,6 +71,13 @@ bool UtilityNode::OnNavStatus(const nav_status_t& msg) {
   const auto status = FromLcm(msg);
   if (!status) return false;
   Carry(manager_.OnNavStatus(*status));
+  return true;
+}
+
+bool UtilityNode::OnControl(const explore_control_t& msg) {
+  const auto command = ExploreCommandFromLcm(msg.command);
+  if (!command) return false;  // counted as rejected by the subscription
+  Carry(manager_.OnControl(*command));
   return true;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 
-// The utility on LCM: subscribes FRONTIERS, POSE_GRAPH, SLAM_MAP, SLAM_POSE
-// and NAV_STATUS; hands them to the ExplorationManager (when to decide, goal
+// The utility on LCM: subscribes FRONTIERS, POSE_GRAPH, SLAM_MAP, SLAM_POSE,
+// NAV_STATUS and EXPLORE_CONTROL; hands them to the ExplorationManager (when to decide, goal
 // ids, blacklist, resends, cancels, done: docs/architecture.md §9), runs the
 // GoalSelector when a decision is due, and publishes UTILITY_SCORES,
 // EXPLORE_GOAL and EXPLORE_STATUS as the manager says. The same node runs in
@@ -14,6 +14,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "aslam/explore_control_t.hpp"
 #include "aslam/frontier_list_t.hpp"
 #include "aslam/nav_status_t.hpp"
 #include "aslam/pose_graph_t.hpp"
@@ -56,6 +57,7 @@ class UtilityNode {
   bool OnGraph(const pose_graph_t& msg);
   bool OnFrontiers(const frontier_list_t& msg);
   bool OnNavStatus(const nav_status_t& msg);
+  bool OnControl(const explore_control_t& msg);
   // Publishes what the manager asked for, running the selector for a due decision.
   void Carry(const ExploreActions& actions);
   void Decide(const DecisionRequest& request);

@@ -19,6 +19,7 @@
 #include "common/inproc_host.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
+#include "utility/explore_control_client.h"
 #include "utility/utility_lcm.h"
 
 namespace aslam {
@@ -131,6 +132,7 @@ class Bench {
     host_.DispatchPending();
   }
 
+  lcm::LCM& lcm() { return host_.lcm(); }
   const UtilityNode& node() const { return node_; }
   UtilityNode& mutable_node() { return node_; }
 
@@ -146,11 +148,65 @@ class Bench {
 
 TEST(UtilityLcm, ExploreStatesRoundTripAndUnknownCodesAreRejected) {
   for (const ExploreState state :
-       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone}) {
+       {ExploreState::kWaiting, ExploreState::kExploring, ExploreState::kDone,
+        ExploreState::kPaused, ExploreState::kReturning, ExploreState::kStopped}) {
     EXPECT_EQ(ExploreStateFromLcm(ExploreStateToLcm(state)), state) << ExploreStateName(state);
   }
   EXPECT_EQ(ExploreStateToLcm(ExploreState::kDone), explore_status_t::STATE_DONE);
+  EXPECT_EQ(ExploreStateToLcm(ExploreState::kStopped), explore_status_t::STATE_STOPPED);
   EXPECT_EQ(ExploreStateFromLcm(7), std::nullopt);
+  for (const ExploreCommand command : {ExploreCommand::kPause, ExploreCommand::kResume,
+                                       ExploreCommand::kStop, ExploreCommand::kReturnHome}) {
+    EXPECT_EQ(ExploreCommandFromLcm(ExploreCommandToLcm(command)), command);
+  }
+  EXPECT_EQ(ExploreCommandToLcm(ExploreCommand::kReturnHome), explore_control_t::RETURN_HOME);
+  EXPECT_EQ(ExploreCommandFromLcm(0), std::nullopt);
+}
+
+// EXPLORE_CONTROL on the bus: pause cancels the goal, resume decides again, a bad command is
+// counted and dropped, and return home sends the robot to its first pose.
+TEST(UtilityNode, ObeysExploreControl) {
+  Bench bench(UtilityMethod::kFd);
+  bench.Map(100'000);
+  bench.Pose(100'000);
+  bench.Frontiers(200'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+  ASSERT_EQ(bench.goals.size(), 1u);
+
+  auto control = [&bench](int8_t command) {
+    explore_control_t msg{};
+    msg.utime = 123;  // another clock: must not move the exploration's time
+    msg.command = command;
+    msg.source = "test";
+    bench.Send(channels::kExploreControl, msg);
+  };
+  control(explore_control_t::PAUSE);
+  ASSERT_EQ(bench.goals.size(), 2u);
+  EXPECT_TRUE(bench.goals[1].cancel);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_PAUSED);
+  EXPECT_EQ(bench.statuses.back().utime, 200'000);
+  bench.Frontiers(1'200'000, {MakeFrontier(9, kFar)});
+  EXPECT_EQ(bench.scores.size(), 1u);  // no decision while paused
+
+  control(42);
+  EXPECT_EQ(bench.node().subscriptions().stats(channels::kExploreControl).rejected, 1);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_PAUSED);
+
+  control(explore_control_t::RESUME);
+  ASSERT_EQ(bench.scores.size(), 2u);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_EXPLORING);
+  ASSERT_EQ(bench.goals.size(), 3u);
+  EXPECT_EQ(bench.goals[2].frontier_id, 9);
+
+  bench.Pose(1'300'000, Pose2d{3.0, 1.0, 0.0});
+  control(explore_control_t::RETURN_HOME);
+  ASSERT_EQ(bench.goals.size(), 4u);
+  EXPECT_EQ(bench.goals[3].frontier_id, -1);
+  EXPECT_DOUBLE_EQ(bench.goals[3].x_m, kRobot.x_m);  // the first pose
+  EXPECT_DOUBLE_EQ(bench.goals[3].y_m, kRobot.y_m);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_RETURNING);
+  bench.Nav(9'000'000, bench.goals[3].goal_id, nav_status_t::STATE_REACHED);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_STOPPED);
+  EXPECT_THAT(bench.statuses.back().detail, HasSubstr("returned to the start"));
 }
 
 TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
@@ -450,6 +506,22 @@ TEST(UtilityNode, BadMessagesAreDroppedAndCounted) {
   EXPECT_EQ(bench.scores.size(), 1u);
   EXPECT_EQ(bench.goals.size(), 1u);
   EXPECT_EQ(subs.total_dropped(), 14);
+}
+
+// `aslam control`: the request goes out and the utility's answer comes back.
+TEST(UtilityNode, ControlClientGetsTheAnswer) {
+  Bench bench(UtilityMethod::kFd);
+  bench.Map(100'000);
+  bench.Pose(100'000);
+  bench.Frontiers(200'000, {MakeFrontier(7, kNear)});
+  const auto answer = SendExploreControl(bench.lcm(), ExploreCommand::kPause, "test", 5.0);
+  ASSERT_TRUE(answer.has_value());
+  EXPECT_EQ(answer->state, explore_status_t::STATE_PAUSED);
+  EXPECT_THAT(DescribeExploreStatus(*answer), HasSubstr("paused: paused (fd, 1 decisions"));
+  EXPECT_EQ(bench.node().status().state, ExploreState::kPaused);
+
+  InProcessHost nobody;  // no utility on this bus: no answer, after the wait
+  EXPECT_FALSE(SendExploreControl(nobody.lcm(), ExploreCommand::kStop, "test", 0.1).has_value());
 }
 
 }  // namespace
