@@ -22,12 +22,15 @@
 #include "common/atomic_file.h"
 #include "common/config.h"
 #include "common/flags.h"
+#include "common/lcm_util.h"
 #include "common/pose2d.h"
 #include "eval/bench.h"
 #include "eval/explore_process.h"
 #include "eval/explore_runner.h"
 #include "eval/log_stats.h"
 #include "eval/run_outputs.h"
+#include "utility/explore_control_client.h"
+#include "viewer/viewer_app.h"
 
 DEFINE_string(world, "", "world folder (map.yaml + world.yaml) or a map_server MAP.yaml");
 DEFINE_string(start, "", "start pose X,Y,YAW in the world frame (m, m, rad); default: the world's");
@@ -42,7 +45,9 @@ DEFINE_string(config, "", "config file (config/aslam.yaml layout); default: buil
 DEFINE_string(out, "", "run folder to write (created)");
 DEFINE_string(lcm_url, "",
               "process mode: LCM URL of the run (default: "
-              "udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304, PORT from the pid)");
+              "udpm://239.255.76.67:PORT?ttl=0&recv_buf_size=4194304, PORT from the pid); "
+              "control: the bus of the run to control (default: $LCM_DEFAULT_URL, else udpm "
+              "with ttl=0)");
 DEFINE_string(launch, "",
               "process mode: aslam-procman launch config (default: config/launch/explore.yaml "
               "of the source tree)");
@@ -55,6 +60,12 @@ DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
 DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
 DEFINE_bool(report_only, false,
             "bench: run nothing; write the tables and figures of the runs already finished");
+DEFINE_bool(return_home, false,
+            "explore: when exploration is done, drive back to the start, then end "
+            "(utility.return_home)");
+DEFINE_double(wait, 3.0, "control: seconds to wait for the utility's answer");
+DEFINE_int32(port, 8080, "view: the viewer's HTTP port");
+DEFINE_string(bind, "127.0.0.1", "view: the address to serve on");
 
 namespace aslam {
 namespace {
@@ -62,11 +73,13 @@ namespace {
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
     "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--launch FILE] [--config FILE]\n"
-    "              [--set KEY=VALUE ...] --out DIR\n"
+    "              [--return-home] [--set KEY=VALUE ...] --out DIR\n"
     "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
     "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
     "            [--report_only] --out DIR\n"
     "aslam log-stats RUN/run.lcmlog\n"
+    "aslam control pause|resume|stop|return_home [--lcm-url URL] [--wait SEC]\n"
+    "aslam view RUN_FOLDER [--port N] [--bind ADDR]\n"
     "--set KEY=VALUE overrides one config key, e.g. --set utility.lambda=1.2 (repeatable; VALUE\n"
     "is YAML: a scalar or [a, list]); explore records the result as OUT/config.yaml. bench\n"
     "sweeps the grid of every --set's values: OUT/runs/<setting>/..., e.g. the setting\n"
@@ -199,6 +212,7 @@ int Explore(const std::vector<std::string>& sets) {
       overrides.push_back(ParseConfigOverride(set));
       CheckRunOverride(overrides.back());
     }
+    if (FLAGS_return_home) overrides.push_back(ParseConfigOverride("utility.return_home=true"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aslam explore: %s\n", e.what());
     return 2;
@@ -437,18 +451,79 @@ std::vector<std::string> TakeSetArguments(std::vector<char*>* args) {
   return sets;
 }
 
+// `aslam control COMMAND`: one EXPLORE_CONTROL request, and the utility's answer.
+int Control(const std::vector<std::string>& args) {
+  const std::optional<ExploreCommand> command =
+      args.size() == 1 ? ParseExploreCommand(args[0]) : std::nullopt;
+  if (!command) {
+    std::fprintf(stderr,
+                 "aslam control: expected one of pause, resume, stop, return_home, got '%s'\n",
+                 args.empty() ? "" : args[0].c_str());
+    return 2;
+  }
+  if (!(FLAGS_wait >= 0.0) || !std::isfinite(FLAGS_wait)) {
+    std::fprintf(stderr, "aslam control: --wait %g: must be finite and >= 0\n", FLAGS_wait);
+    return 2;
+  }
+  const std::string url = ResolveLcmUrl(FLAGS_lcm_url);
+  try {
+    const std::unique_ptr<lcm::LCM> lcm = OpenLcm(url);
+    const std::optional<explore_status_t> answer =
+        SendExploreControl(*lcm, *command, "aslam control", FLAGS_wait);
+    if (!answer) {
+      std::fprintf(stderr,
+                   "aslam control: sent %s on %s; no EXPLORE_STATUS came back within %g s: is "
+                   "aslam-utility running on this LCM URL?\n",
+                   ExploreCommandName(*command), url.c_str(), FLAGS_wait);
+      return 1;
+    }
+    std::printf("%s\n", DescribeExploreStatus(*answer).c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "aslam control: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+// `aslam view RUN_FOLDER`: the run's log in aslam-viewer, with a time slider.
+int View(const std::vector<std::string>& args) {
+  if (args.size() != 1) {
+    std::fprintf(stderr, "aslam view: expected one run folder\nusage: %s\n", kUsage);
+    return 2;
+  }
+  const std::string log = args[0] + "/run.lcmlog";
+  if (!std::filesystem::exists(log)) {
+    std::fprintf(stderr,
+                 "aslam view: %s: no such file. Runs in process mode keep their bus in "
+                 "run.lcmlog; runs with --inproc (and aslam bench) keep none: run aslam explore "
+                 "without --inproc to have one\n",
+                 log.c_str());
+    return 1;
+  }
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  ViewerOptions options;
+  options.log_path = log;
+  options.port = FLAGS_port;
+  options.bind_address = FLAGS_bind;
+  return RunViewer(options, g_stop);
+}
+
 int RunAslamCommand(int argc, char** argv) {
   const bool help =
       argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
   const std::string command = argc >= 2 ? argv[1] : "";
   g_command_line.assign(argv, argv + argc);
-  if (command != "explore" && command != "bench" && command != "log-stats") {
+  if (command != "explore" && command != "bench" && command != "log-stats" &&
+      command != "control" && command != "view") {
     std::fprintf(help ? stdout : stderr,
                  "usage: aslam <command> [flags]\n\ncommands:\n"
                  "  explore     explore a world, write a run folder\n"
                  "  bench       run the paper's experiment matrix, write its tables and figures\n"
                  "  log-stats   CPU per process and LIDAR_SCAN -> CMD_VEL latency of a run's lcm "
-                 "log\n\n%s\n",
+                 "log\n"
+                 "  control     pause, resume, stop a running exploration, or send it home\n"
+                 "  view        a finished run in the browser, with a time slider\n\n%s\n",
                  kUsage);
     return help ? 0 : 2;
   }
@@ -462,14 +537,16 @@ int RunAslamCommand(int argc, char** argv) {
     std::fprintf(stderr, "aslam %s: %s\nusage: %s\n", command.c_str(), e.what(), kUsage);
     return 2;
   }
-  if (command == "log-stats" && !sets.empty()) {
-    std::fprintf(stderr, "aslam log-stats: takes no --set\n");
+  if ((command == "log-stats" || command == "control" || command == "view") && !sets.empty()) {
+    std::fprintf(stderr, "aslam %s: takes no --set\n", command.c_str());
     return 2;
   }
   int n = static_cast<int>(args.size());
   char** v = args.data();
   ParseFlags(&n, &v, kUsage);
   if (command == "log-stats") return LogStatsCommand(std::vector<std::string>(v + 1, v + n));
+  if (command == "control") return Control(std::vector<std::string>(v + 1, v + n));
+  if (command == "view") return View(std::vector<std::string>(v + 1, v + n));
   if (n > 1) {
     std::fprintf(stderr, "aslam %s: unexpected argument '%s'\n", command.c_str(), v[1]);
     return 2;

@@ -120,18 +120,20 @@ int RunViewer(const ViewerOptions& options, const std::atomic<bool>& stop) {
     }
     if (options.status_period_s > 0 && now >= next_status) {
       const int64_t bytes = server->bytes_sent();
-      std::printf("aslam-viewer: t=%.1f s, %d page(s), %.1f kB/s sent, %lld control request(s), "
-                  "%lld bad message(s)\n",
-                  node.t_s(), server->pages(),
-                  (bytes - bytes_at_status) / 1000.0 / options.status_period_s,
-                  static_cast<long long>(server->controls_sent()),
-                  static_cast<long long>(node.subscriptions().total_dropped()));
+      std::printf(
+          "aslam-viewer: t=%.1f s, %d page(s), %.1f kB/s sent, %lld control request(s), "
+          "%lld bad message(s)\n",
+          node.t_s(), server->pages(), (bytes - bytes_at_status) / 1000.0 / options.status_period_s,
+          static_cast<long long>(server->controls_sent()),
+          static_cast<long long>(node.subscriptions().total_dropped()));
       std::fflush(stdout);
       bytes_at_status = bytes;
       next_status += std::chrono::duration<double>(options.status_period_s);
     }
-    const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_push - Clock::now());
-    const int wait_ms = static_cast<int>(std::max<int64_t>(0, std::min<int64_t>(wait.count(), 100)));
+    const auto wait =
+        std::chrono::duration_cast<std::chrono::milliseconds>(next_push - Clock::now());
+    const int wait_ms =
+        static_cast<int>(std::max<int64_t>(0, std::min<int64_t>(wait.count(), 100)));
     if (replay) {
       std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
     } else if (lcm.handleTimeout(wait_ms) < 0 && errno != EINTR && !stop) {

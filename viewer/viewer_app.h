@@ -13,7 +13,7 @@ struct ViewerOptions {
   std::string log_path;  // replay this lcm log instead (no control then)
   std::string bind_address = "127.0.0.1";
   int port = 8080;
-  double rate_hz = 2.0;  // updates per second to each page
+  double rate_hz = 2.0;           // updates per second to each page
   double status_period_s = 10.0;  // a status line on stdout this often; 0 = none
 
   // Throws std::invalid_argument naming the flag and value.

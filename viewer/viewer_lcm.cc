@@ -41,10 +41,9 @@ ViewerScores ScoresFromLcm(const utility_scores_t& msg) {
     row.total = s.total;
     row.eligible = s.eligible;
     const bool known_reason = s.ineligible_reason >= 0 && s.ineligible_reason <= 4;
-    row.reason = s.eligible ? ""
-                 : known_reason
-                     ? EligibilityName(static_cast<Eligibility>(s.ineligible_reason))
-                     : "unknown reason";
+    row.reason = s.eligible     ? ""
+                 : known_reason ? EligibilityName(static_cast<Eligibility>(s.ineligible_reason))
+                                : "unknown reason";
     row.chosen = s.chosen;
     scores.rows.push_back(std::move(row));
   }
@@ -55,9 +54,9 @@ ViewerScores ScoresFromLcm(const utility_scores_t& msg) {
 
 const std::vector<std::string>& ViewerChannels() {
   static const std::vector<std::string> channels = {
-      channels::kSlamMap,     channels::kSlamPose,       channels::kLidarScan,
-      channels::kPoseGraph,   channels::kFrontiers,      channels::kUtilityScores,
-      channels::kNavStatus,   channels::kNavPath,        channels::kExploreStatus,
+      channels::kSlamMap,      channels::kSlamPose,  channels::kLidarScan,
+      channels::kPoseGraph,    channels::kFrontiers, channels::kUtilityScores,
+      channels::kNavStatus,    channels::kNavPath,   channels::kExploreStatus,
       channels::kProcmanStatus};
   return channels;
 }
@@ -94,15 +93,15 @@ ViewerNode::ViewerNode(lcm::LCM& lcm) : lcm_(lcm), subscriptions_(lcm) {
     model_.OnFrontiers(*list);
     return true;
   });
-  subscriptions_.Add<utility_scores_t>(channels::kUtilityScores,
-                                       [this](const utility_scores_t& msg) {
-                                         if (msg.num_scores != static_cast<int>(msg.scores.size())) {
-                                           return false;
-                                         }
-                                         std::lock_guard<std::mutex> lock(mutex_);
-                                         model_.OnScores(ScoresFromLcm(msg), msg.utime);
-                                         return true;
-                                       });
+  subscriptions_.Add<utility_scores_t>(
+      channels::kUtilityScores, [this](const utility_scores_t& msg) {
+        if (msg.num_scores != static_cast<int>(msg.scores.size())) {
+          return false;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        model_.OnScores(ScoresFromLcm(msg), msg.utime);
+        return true;
+      });
   subscriptions_.Add<nav_status_t>(channels::kNavStatus, [this](const nav_status_t& msg) {
     const auto status = FromLcm(msg);
     if (!status) return false;
@@ -113,8 +112,7 @@ ViewerNode::ViewerNode(lcm::LCM& lcm) : lcm_(lcm), subscriptions_(lcm) {
     return true;
   });
   subscriptions_.Add<nav_path_t>(channels::kNavPath, [this](const nav_path_t& msg) {
-    if (msg.num_points != static_cast<int>(msg.x_m.size()) ||
-        msg.x_m.size() != msg.y_m.size()) {
+    if (msg.num_points != static_cast<int>(msg.x_m.size()) || msg.x_m.size() != msg.y_m.size()) {
       return false;
     }
     std::vector<Point2d> path;
@@ -124,28 +122,30 @@ ViewerNode::ViewerNode(lcm::LCM& lcm) : lcm_(lcm), subscriptions_(lcm) {
     model_.OnNavPath(std::move(path), msg.utime);
     return true;
   });
-  subscriptions_.Add<explore_status_t>(channels::kExploreStatus, [this](const explore_status_t& msg) {
+  subscriptions_.Add<explore_status_t>(channels::kExploreStatus, [this](
+                                                                     const explore_status_t& msg) {
     const std::optional<ExploreState> state = ExploreStateFromLcm(msg.state);
     if (!state) return false;
-    ViewerExplore e{ExploreStateName(*state), msg.detail,       msg.method,
-                    msg.current_goal_id,      msg.num_frontiers, msg.num_eligible,
-                    msg.decisions,            msg.goals_reached, msg.goals_failed};
+    ViewerExplore e{ExploreStateName(*state), msg.detail,       msg.method,    msg.current_goal_id,
+                    msg.num_frontiers,        msg.num_eligible, msg.decisions, msg.goals_reached,
+                    msg.goals_failed};
     std::lock_guard<std::mutex> lock(mutex_);
     model_.OnExploreStatus(std::move(e), msg.utime);
     return true;
   });
-  subscriptions_.Add<procman_status_t>(channels::kProcmanStatus, [this](const procman_status_t& msg) {
-    DeputyStatus status;
-    if (!FromLcm(msg, &status)) return false;
-    std::vector<ViewerProcess> processes;
-    for (const ProcessStatus& p : status.processes) {
-      processes.push_back({p.name, status.deputy, ProcessStateName(p.state), p.pid, p.restarts,
-                           p.exit_code, p.cpu_percent, p.rss_bytes / 1e6});
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    model_.OnProcesses(status.deputy, std::move(processes));
-    return true;
-  });
+  subscriptions_.Add<procman_status_t>(
+      channels::kProcmanStatus, [this](const procman_status_t& msg) {
+        DeputyStatus status;
+        if (!FromLcm(msg, &status)) return false;
+        std::vector<ViewerProcess> processes;
+        for (const ProcessStatus& p : status.processes) {
+          processes.push_back({p.name, status.deputy, ProcessStateName(p.state), p.pid, p.restarts,
+                               p.exit_code, p.cpu_percent, p.rss_bytes / 1e6});
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        model_.OnProcesses(status.deputy, std::move(processes));
+        return true;
+      });
 }
 
 std::string ViewerNode::Update(ViewerCursor* cursor) const {

@@ -102,8 +102,8 @@ std::string TileJson(const OccupancyGrid& grid, int x, int y, int w, int h) {
     throw std::runtime_error("zlib could not compress a map tile");
   }
   gchar* base64 = g_base64_encode(z.data(), size);
-  std::string out = Format("{\"x\":%d,\"y\":%d,\"w\":%d,\"h\":%d,\"cells\":\"%s\"}", x, y, w, h,
-                           base64);
+  std::string out =
+      Format("{\"x\":%d,\"y\":%d,\"w\":%d,\"h\":%d,\"cells\":\"%s\"}", x, y, w, h, base64);
   g_free(base64);
   return out;
 }
@@ -277,8 +277,9 @@ std::string ViewerModel::MapJson(ViewerCursor* cursor) const {
       full = true;
     }
   }
-  if (full) cursor->map = OccupancyGrid(grid.width_cells(), grid.height_cells(),
-                                        grid.resolution_m(), grid.origin_m());
+  if (full)
+    cursor->map = OccupancyGrid(grid.width_cells(), grid.height_cells(), grid.resolution_m(),
+                                grid.origin_m());
   std::string tiles;
   for (int y = 0; y < grid.height_cells(); y += kTileCells) {
     const int h = std::min(kTileCells, grid.height_cells() - y);
@@ -291,11 +292,12 @@ std::string ViewerModel::MapJson(ViewerCursor* cursor) const {
   }
   cursor->map = grid;
   cursor->map_revision = map_revision_;
-  return Format("{\"revision\":%lld,\"width\":%d,\"height\":%d,\"resolution_m\":%s,"
-                "\"origin\":{\"x_m\":%s,\"y_m\":%s,\"yaw_rad\":0},\"full\":%s,\"tiles\":[%s]}",
-                static_cast<long long>(map_revision_), grid.width_cells(), grid.height_cells(),
-                Num(grid.resolution_m(), 4).c_str(), Num(grid.origin_m().x_m, 4).c_str(),
-                Num(grid.origin_m().y_m, 4).c_str(), full ? "true" : "false", tiles.c_str());
+  return Format(
+      "{\"revision\":%lld,\"width\":%d,\"height\":%d,\"resolution_m\":%s,"
+      "\"origin\":{\"x_m\":%s,\"y_m\":%s,\"yaw_rad\":0},\"full\":%s,\"tiles\":[%s]}",
+      static_cast<long long>(map_revision_), grid.width_cells(), grid.height_cells(),
+      Num(grid.resolution_m(), 4).c_str(), Num(grid.origin_m().x_m, 4).c_str(),
+      Num(grid.origin_m().y_m, 4).c_str(), full ? "true" : "false", tiles.c_str());
 }
 
 std::string ViewerModel::Update(ViewerCursor* cursor) const {
@@ -311,9 +313,9 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     fields.push_back({"map", MapJson(cursor)});
   }
   if (pose_ && cursor->pose_version != pose_version_) {
-    fields.push_back({"pose", Format("{\"x_m\":%s,\"y_m\":%s,\"yaw_rad\":%s}",
-                                     Num(pose_->pose.x_m).c_str(), Num(pose_->pose.y_m).c_str(),
-                                     Num(pose_->pose.yaw_rad).c_str())});
+    fields.push_back(
+        {"pose", Format("{\"x_m\":%s,\"y_m\":%s,\"yaw_rad\":%s}", Num(pose_->pose.x_m).c_str(),
+                        Num(pose_->pose.y_m).c_str(), Num(pose_->pose.yaw_rad).c_str())});
     cursor->pose_version = pose_version_;
   }
   if (cursor->graph_version != graph_version_ || reset) {
@@ -321,7 +323,8 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     for (std::size_t i = 0; i < edges_.size(); ++i) {
       edges += Format("%s[%d,%d,%d]", i ? "," : "", edges_[i][0], edges_[i][1], edges_[i][2]);
     }
-    fields.push_back({"graph", "{\"nodes\":" + PointsJson(nodes_m_) + ",\"edges\":" + edges + "]}"});
+    fields.push_back(
+        {"graph", "{\"nodes\":" + PointsJson(nodes_m_) + ",\"edges\":" + edges + "]}"});
     std::vector<Point2d> trail = nodes_m_;
     trail.insert(trail.end(), trail_since_graph_m_.begin(), trail_since_graph_m_.end());
     fields.push_back({"trail", PointsJson(trail)});
@@ -344,13 +347,13 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->scores_version = scores_version_;
   }
   if (nav_ && cursor->nav_version != nav_version_) {
-    fields.push_back({"nav", JsonObject({{"state", JsonString(nav_->state)},
-                                         {"goal_id", std::to_string(nav_->goal_id)},
-                                         {"goal", PointJson(nav_->goal_m)},
-                                         {"distance_remaining_m",
-                                          Num(nav_->distance_remaining_m, 2)},
-                                         {"detail", JsonString(nav_->detail)},
-                                         {"path", PointsJson(path_m_)}})});
+    fields.push_back(
+        {"nav", JsonObject({{"state", JsonString(nav_->state)},
+                            {"goal_id", std::to_string(nav_->goal_id)},
+                            {"goal", PointJson(nav_->goal_m)},
+                            {"distance_remaining_m", Num(nav_->distance_remaining_m, 2)},
+                            {"detail", JsonString(nav_->detail)},
+                            {"path", PointsJson(path_m_)}})});
     cursor->nav_version = nav_version_;
     cursor->path_version = path_version_;
   } else if (cursor->path_version != path_version_ && nav_) {

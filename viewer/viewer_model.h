@@ -78,7 +78,7 @@ struct ViewerProcess {
 
 // What one page has been sent so far (Update() advances it).
 struct ViewerCursor {
-  bool reset_pending = true;  // the next frame starts the page afresh
+  bool reset_pending = true;         // the next frame starts the page afresh
   std::optional<OccupancyGrid> map;  // the grid as the page has it (quantized)
   int64_t map_revision = -1;
   uint64_t graph_version = 0;

@@ -208,9 +208,10 @@ TEST(ViewerModel, TheSeriesHasOnePointPerSecondOfKnownAreaAndDOptimality) {
   ASSERT_EQ(model.series().size(), 4u);  // 0, 1, 2, 3 s
   EXPECT_DOUBLE_EQ(model.series()[3][0], 3.0);
   EXPECT_NEAR(model.series()[3][1], 110 * 50 * 0.05 * 0.05, 1e-9);  // the room's cells
-  EXPECT_TRUE(std::isnan(model.series()[3][2]));                  // no graph edges yet
+  EXPECT_TRUE(std::isnan(model.series()[3][2]));                    // no graph edges yet
   ViewerCursor page;
-  EXPECT_THAT(Compact(model.Update(&page)), HasSubstr("\"series\":[[0.0,13.75,null],[1.0,13.75,null]"));
+  EXPECT_THAT(Compact(model.Update(&page)),
+              HasSubstr("\"series\":[[0.0,13.75,null],[1.0,13.75,null]"));
   model.OnPose(StampedPose{14 * kSecond, {}, 0.0, 0.0});
   EXPECT_THAT(Compact(model.Update(&page)), HasSubstr("\"series_append\":[[4.0,13.75,null]]"));
 }

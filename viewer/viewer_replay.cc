@@ -22,13 +22,14 @@ ViewerReplay::ViewerReplay(const std::string& log_path, int max_snapshots) {
     if (std::find(shown.begin(), shown.end(), event->channel) == shown.end()) continue;
     // Log timestamps can step back a little (several writers); the slider wants them in order.
     const double t_s = std::max(end_s_, (event->timestamp - *first_timestamp) * 1e-6);
-    events_.push_back({t_s, event->channel,
-                       std::string(static_cast<const char*>(event->data), event->datalen)});
+    events_.push_back(
+        {t_s, event->channel, std::string(static_cast<const char*>(event->data), event->datalen)});
     end_s_ = t_s;
   }
   if (events_.empty()) {
-    throw std::runtime_error(log_path + ": no message on a channel the viewer shows (SLAM_MAP, "
-                                        "SLAM_POSE, FRONTIERS, ...)");
+    throw std::runtime_error(log_path +
+                             ": no message on a channel the viewer shows (SLAM_MAP, "
+                             "SLAM_POSE, FRONTIERS, ...)");
   }
   const double period_s = std::max(10.0, end_s_ / std::max(1, max_snapshots));
   ViewerModel model;

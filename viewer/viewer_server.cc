@@ -70,8 +70,8 @@ ViewerServer::ViewerServer(ViewerServerOptions options, ViewerNode& node,
                                ? "[" + options_.bind_address + "]"
                                : options_.bind_address;
   const std::string listen = host + ":" + std::to_string(options_.port);
-  const char* config[] = {"listening_ports", listen.c_str(), "num_threads", "4",
-                          "websocket_timeout_ms", "3600000", nullptr};
+  const char* config[] = {"listening_ports",      listen.c_str(), "num_threads", "4",
+                          "websocket_timeout_ms", "3600000",      nullptr};
   mg_callbacks callbacks{};
   context_ = mg_start(&callbacks, this, config);
   if (context_ == nullptr) {
@@ -157,8 +157,9 @@ std::string ViewerServer::HandleRequest(const std::string& request, const std::s
     const std::string name = words.size() >= 2 ? words[1] : "";
     const std::optional<ExploreCommand> command = ParseExploreCommand(name);
     if (!command) {
-      return ControlResult(name, false, "unknown command: expected pause, resume, stop or "
-                                        "return_home");
+      return ControlResult(name, false,
+                           "unknown command: expected pause, resume, stop or "
+                           "return_home");
     }
     if (!options_.allow_control) return ControlResult(name, false, "control is off (a replay)");
     if (!options_.token.empty() && (words.size() < 3 || !SameToken(words[2], options_.token))) {

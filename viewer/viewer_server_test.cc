@@ -223,9 +223,8 @@ TEST_F(Replay, ShowsTheRunAsItWasAtAnyTime) {
   const ViewerReplay replay(path_, /*max_snapshots=*/60);
   EXPECT_DOUBLE_EQ(replay.end_s(), 20.0);
   EXPECT_EQ(replay.events(), 3u);
-  for (const auto& [t_s, frontiers] :
-       std::vector<std::pair<double, std::size_t>>{{0.0, 1}, {5.0, 1}, {10.0, 2}, {19.9, 2},
-                                                   {20.0, 3}, {25.0, 3}}) {
+  for (const auto& [t_s, frontiers] : std::vector<std::pair<double, std::size_t>>{
+           {0.0, 1}, {5.0, 1}, {10.0, 2}, {19.9, 2}, {20.0, 3}, {25.0, 3}}) {
     const ViewerModel model = replay.ModelAt(t_s);
     ASSERT_TRUE(model.frontiers().has_value()) << t_s;
     EXPECT_EQ(model.frontiers()->frontiers.size(), frontiers) << "at " << t_s << " s";
@@ -240,10 +239,9 @@ TEST_F(Replay, APageSeeksAndCannotControl) {
   node.SetModel(replay.ModelAt(replay.end_s()));
   ViewerServerOptions options = AnyPort();
   options.allow_control = false;
-  ViewerServer server(options, node,
-                      ViewerReplayHooks{0.0, replay.end_s(), [&](double t_s) {
-                                          node.SetModel(replay.ModelAt(t_s));
-                                        }});
+  ViewerServer server(options, node, ViewerReplayHooks{0.0, replay.end_s(), [&](double t_s) {
+                                                         node.SetModel(replay.ModelAt(t_s));
+                                                       }});
   Page page(server.port());
   EXPECT_THAT(page.WaitFor("hello"), HasSubstr("\"mode\":\"replay\",\"control\":false"));
   EXPECT_THAT(page.WaitFor("hello"), HasSubstr("\"replay\":{\"start_s\":0.000,\"end_s\":20.000}"));
