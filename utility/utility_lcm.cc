@@ -41,6 +41,35 @@ utility_scores_t ScoresToLcm(const GoalDecision& decision, int64_t utime, int64_
   return msg;
 }
 
+std::optional<std::vector<FrontierScore>> FrontierScoresFromLcm(const utility_scores_t& msg) {
+  if (msg.num_scores != static_cast<int>(msg.scores.size())) return std::nullopt;
+  std::vector<FrontierScore> scores;
+  scores.reserve(msg.scores.size());
+  for (const frontier_score_t& m : msg.scores) {
+    if (m.ineligible_reason < static_cast<int8_t>(Eligibility::kEligible) ||
+        m.ineligible_reason > static_cast<int8_t>(Eligibility::kTooFar)) {
+      return std::nullopt;
+    }
+    FrontierScore s;
+    s.frontier_id = m.frontier_id;
+    s.target_m = {m.target_x_m, m.target_y_m};
+    s.path_length_m = m.path_length_m;
+    s.distance_m = m.distance_m;
+    s.ray_cells = m.ray_cells;
+    s.path_entropy_bits = m.path_entropy_bits;
+    s.mean_entropy_bits = m.mean_entropy_bits;
+    s.gamma = m.gamma;
+    s.rho = m.rho;
+    s.u1 = m.u1;
+    s.u2 = m.u2;
+    s.total = m.total;
+    s.eligibility = static_cast<Eligibility>(m.ineligible_reason);
+    s.chosen = m.chosen;
+    scores.push_back(s);
+  }
+  return scores;
+}
+
 explore_goal_t ToLcm(const ExploreGoal& goal) {
   explore_goal_t msg{};
   msg.utime = goal.utime;
@@ -89,6 +118,24 @@ std::optional<ExploreCommand> ExploreCommandFromLcm(int8_t code) {
     if (ExploreCommandToLcm(command) == code) return command;
   }
   return std::nullopt;
+}
+
+std::optional<ExploreStatus> FromLcm(const explore_status_t& msg) {
+  const std::optional<ExploreState> state = ExploreStateFromLcm(msg.state);
+  const std::optional<UtilityMethod> method = ParseUtilityMethod(msg.method);
+  if (!state || !method) return std::nullopt;
+  ExploreStatus status;
+  status.utime = msg.utime;
+  status.state = *state;
+  status.method = *method;
+  status.current_goal_id = msg.current_goal_id;
+  status.num_frontiers = msg.num_frontiers;
+  status.num_eligible = msg.num_eligible;
+  status.decisions = msg.decisions;
+  status.goals_reached = msg.goals_reached;
+  status.goals_failed = msg.goals_failed;
+  status.detail = msg.detail;
+  return status;
 }
 
 explore_control_t ExploreControlMessage(ExploreCommand command, const std::string& source) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "aslam/explore_control_t.hpp"
 #include "aslam/explore_goal_t.hpp"
@@ -22,8 +23,14 @@ namespace aslam {
 utility_scores_t ScoresToLcm(const GoalDecision& decision, int64_t utime, int64_t decision_id,
                              UtilityMethod method, const Pose2d& robot, double compute_ms);
 
+// The terms of every frontier of a UTILITY_SCORES; nullopt for a count that disagrees with
+// its array or an unknown eligibility code.
+std::optional<std::vector<FrontierScore>> FrontierScoresFromLcm(const utility_scores_t& msg);
+
 explore_goal_t ToLcm(const ExploreGoal& goal);
 explore_status_t ToLcm(const ExploreStatus& status);
+// nullopt for an unknown state or method.
+std::optional<ExploreStatus> FromLcm(const explore_status_t& msg);
 // explore_status_t's state code for `state`, and back (nullopt for an unknown code).
 int8_t ExploreStateToLcm(ExploreState state);
 std::optional<ExploreState> ExploreStateFromLcm(int8_t code);

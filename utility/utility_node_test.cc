@@ -163,6 +163,51 @@ TEST(UtilityLcm, ExploreStatesRoundTripAndUnknownCodesAreRejected) {
   EXPECT_EQ(ExploreCommandFromLcm(0), std::nullopt);
 }
 
+// What the viewer reads back: EXPLORE_STATUS and UTILITY_SCORES round-trip, bad ones are refused.
+TEST(UtilityLcm, StatusAndScoresReadBack) {
+  ExploreStatus status;
+  status.utime = 42;
+  status.state = ExploreState::kReturning;
+  status.method = UtilityMethod::kAgs;
+  status.current_goal_id = 7;
+  status.num_frontiers = 5;
+  status.num_eligible = 3;
+  status.decisions = 9;
+  status.goals_reached = 6;
+  status.goals_failed = 2;
+  status.detail = "returning";
+  explore_status_t msg = ToLcm(status);
+  const std::optional<ExploreStatus> back = FromLcm(msg);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->state, ExploreState::kReturning);
+  EXPECT_EQ(back->method, UtilityMethod::kAgs);
+  EXPECT_EQ(back->goals_failed, 2);
+  EXPECT_EQ(back->detail, "returning");
+  msg.method = "random";
+  EXPECT_FALSE(FromLcm(msg).has_value());
+
+  GoalDecision decision;
+  FrontierScore score;
+  score.frontier_id = 4;
+  score.u1 = 1.5;
+  score.ray_cells = 33;
+  score.total = -std::numeric_limits<double>::infinity();
+  score.eligibility = Eligibility::kUnreachable;
+  decision.scores = {score};
+  utility_scores_t scores = ScoresToLcm(decision, 1, 2, UtilityMethod::kOurs, Pose2d{}, 0.5);
+  const auto rows = FrontierScoresFromLcm(scores);
+  ASSERT_TRUE(rows.has_value());
+  ASSERT_EQ(rows->size(), 1u);
+  EXPECT_EQ((*rows)[0].frontier_id, 4);
+  EXPECT_EQ((*rows)[0].ray_cells, 33);
+  EXPECT_EQ((*rows)[0].eligibility, Eligibility::kUnreachable);
+  EXPECT_DOUBLE_EQ((*rows)[0].u1, 1.5);
+  scores.scores[0].ineligible_reason = 9;
+  EXPECT_FALSE(FrontierScoresFromLcm(scores).has_value());
+  scores.num_scores = 2;
+  EXPECT_FALSE(FrontierScoresFromLcm(scores).has_value());
+}
+
 // EXPLORE_CONTROL on the bus: pause cancels the goal, resume decides again, a bad command is
 // counted and dropped, and return home sends the robot to its first pose.
 TEST(UtilityNode, ObeysExploreControl) {

@@ -16,41 +16,9 @@
 #include "frontier/frontier_lcm.h"
 #include "navigation/nav_lcm.h"
 #include "procman/procman_lcm.h"
-#include "utility/goal_selector.h"
 #include "utility/utility_lcm.h"
 
 namespace aslam {
-namespace {
-
-ViewerScores ScoresFromLcm(const utility_scores_t& msg) {
-  ViewerScores scores;
-  scores.decision_id = msg.decision_id;
-  scores.method = msg.method;
-  scores.chosen_frontier_id = msg.chosen_frontier_id;
-  for (const frontier_score_t& s : msg.scores) {
-    ViewerScoreRow row;
-    row.frontier_id = s.frontier_id;
-    row.target_m = {s.target_x_m, s.target_y_m};
-    row.path_length_m = s.path_length_m;
-    row.u1 = s.u1;
-    row.mean_entropy_bits = s.mean_entropy_bits;
-    row.ray_cells = s.ray_cells;
-    row.gamma = s.gamma;
-    row.rho = s.rho;
-    row.u2 = s.u2;
-    row.total = s.total;
-    row.eligible = s.eligible;
-    const bool known_reason = s.ineligible_reason >= 0 && s.ineligible_reason <= 4;
-    row.reason = s.eligible     ? ""
-                 : known_reason ? EligibilityName(static_cast<Eligibility>(s.ineligible_reason))
-                                : "unknown reason";
-    row.chosen = s.chosen;
-    scores.rows.push_back(std::move(row));
-  }
-  return scores;
-}
-
-}  // namespace
 
 const std::vector<std::string>& ViewerChannels() {
   static const std::vector<std::string> channels = {
@@ -95,20 +63,18 @@ ViewerNode::ViewerNode(lcm::LCM& lcm) : lcm_(lcm), subscriptions_(lcm) {
   });
   subscriptions_.Add<utility_scores_t>(
       channels::kUtilityScores, [this](const utility_scores_t& msg) {
-        if (msg.num_scores != static_cast<int>(msg.scores.size())) {
-          return false;
-        }
+        std::optional<std::vector<FrontierScore>> scores = FrontierScoresFromLcm(msg);
+        if (!scores) return false;
         std::lock_guard<std::mutex> lock(mutex_);
-        model_.OnScores(ScoresFromLcm(msg), msg.utime);
+        model_.OnScores({msg.decision_id, msg.method, msg.chosen_frontier_id, std::move(*scores)},
+                        msg.utime);
         return true;
       });
   subscriptions_.Add<nav_status_t>(channels::kNavStatus, [this](const nav_status_t& msg) {
     const auto status = FromLcm(msg);
     if (!status) return false;
-    ViewerNav nav{NavStateName(status->state), status->goal_id, status->goal_m,
-                  status->distance_remaining_m, status->detail};
     std::lock_guard<std::mutex> lock(mutex_);
-    model_.OnNavStatus(std::move(nav), msg.utime);
+    model_.OnNavStatus(*status);
     return true;
   });
   subscriptions_.Add<nav_path_t>(channels::kNavPath, [this](const nav_path_t& msg) {
@@ -122,30 +88,22 @@ ViewerNode::ViewerNode(lcm::LCM& lcm) : lcm_(lcm), subscriptions_(lcm) {
     model_.OnNavPath(std::move(path), msg.utime);
     return true;
   });
-  subscriptions_.Add<explore_status_t>(channels::kExploreStatus, [this](
-                                                                     const explore_status_t& msg) {
-    const std::optional<ExploreState> state = ExploreStateFromLcm(msg.state);
-    if (!state) return false;
-    ViewerExplore e{ExploreStateName(*state), msg.detail,       msg.method,    msg.current_goal_id,
-                    msg.num_frontiers,        msg.num_eligible, msg.decisions, msg.goals_reached,
-                    msg.goals_failed};
-    std::lock_guard<std::mutex> lock(mutex_);
-    model_.OnExploreStatus(std::move(e), msg.utime);
-    return true;
-  });
-  subscriptions_.Add<procman_status_t>(
-      channels::kProcmanStatus, [this](const procman_status_t& msg) {
-        DeputyStatus status;
-        if (!FromLcm(msg, &status)) return false;
-        std::vector<ViewerProcess> processes;
-        for (const ProcessStatus& p : status.processes) {
-          processes.push_back({p.name, status.deputy, ProcessStateName(p.state), p.pid, p.restarts,
-                               p.exit_code, p.cpu_percent, p.rss_bytes / 1e6});
-        }
-        std::lock_guard<std::mutex> lock(mutex_);
-        model_.OnProcesses(status.deputy, std::move(processes));
-        return true;
-      });
+  subscriptions_.Add<explore_status_t>(channels::kExploreStatus,
+                                       [this](const explore_status_t& msg) {
+                                         const std::optional<ExploreStatus> status = FromLcm(msg);
+                                         if (!status) return false;
+                                         std::lock_guard<std::mutex> lock(mutex_);
+                                         model_.OnExploreStatus(*status);
+                                         return true;
+                                       });
+  subscriptions_.Add<procman_status_t>(channels::kProcmanStatus,
+                                       [this](const procman_status_t& msg) {
+                                         DeputyStatus status;
+                                         if (!FromLcm(msg, &status)) return false;
+                                         std::lock_guard<std::mutex> lock(mutex_);
+                                         model_.OnProcesses(status);
+                                         return true;
+                                       });
 }
 
 std::string ViewerNode::Update(ViewerCursor* cursor) const {

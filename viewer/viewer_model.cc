@@ -110,7 +110,7 @@ std::string TileJson(const OccupancyGrid& grid, int x, int y, int w, int h) {
 
 std::string ScoresJson(const ViewerScores& s) {
   std::string rows;
-  for (const ViewerScoreRow& r : s.rows) {
+  for (const FrontierScore& r : s.scores) {
     if (!rows.empty()) rows += ",";
     rows += JsonObject({{"frontier_id", std::to_string(r.frontier_id)},
                         {"target", PointJson(r.target_m)},
@@ -122,8 +122,8 @@ std::string ScoresJson(const ViewerScores& s) {
                         {"rho", Num(r.rho, 4)},
                         {"u2", Num(r.u2, 4)},
                         {"total", Num(r.total, 4)},
-                        {"eligible", r.eligible ? "true" : "false"},
-                        {"reason", JsonString(r.reason)},
+                        {"eligible", r.eligible() ? "true" : "false"},
+                        {"reason", JsonString(r.eligible() ? "" : EligibilityName(r.eligibility))},
                         {"chosen", r.chosen ? "true" : "false"}});
   }
   return JsonObject({{"decision_id", std::to_string(s.decision_id)},
@@ -240,12 +240,13 @@ void ViewerModel::OnScores(ViewerScores scores, int64_t utime) {
   scores_version_ = version_;
 }
 
-void ViewerModel::OnNavStatus(ViewerNav nav, int64_t utime) {
+void ViewerModel::OnNavStatus(const NavStatus& nav) {
+  // At 10 Hz the distance creeps; a page needs it to 5 cm.
   const bool changed = !nav_ || nav_->state != nav.state || nav_->goal_id != nav.goal_id ||
-                       nav_->detail != nav.detail ||
+                       nav_->detail != nav.detail || nav_->recovery != nav.recovery ||
                        std::abs(nav_->distance_remaining_m - nav.distance_remaining_m) >= 0.05;
-  nav_ = std::move(nav);
-  Advance(utime);
+  nav_ = nav;
+  Advance(nav.utime);
   if (changed) nav_version_ = version_;
 }
 
@@ -255,14 +256,14 @@ void ViewerModel::OnNavPath(std::vector<Point2d> path_m, int64_t utime) {
   path_version_ = version_;
 }
 
-void ViewerModel::OnExploreStatus(ViewerExplore status, int64_t utime) {
-  explore_ = std::move(status);
-  Advance(utime);
+void ViewerModel::OnExploreStatus(const ExploreStatus& status) {
+  explore_ = status;
+  Advance(status.utime);
   explore_version_ = version_;
 }
 
-void ViewerModel::OnProcesses(const std::string& deputy, std::vector<ViewerProcess> processes) {
-  processes_[deputy] = std::move(processes);
+void ViewerModel::OnProcesses(const DeputyStatus& deputy) {
+  processes_[deputy.deputy] = deputy;
   processes_version_ = ++version_;
 }
 
@@ -347,8 +348,13 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->scores_version = scores_version_;
   }
   if (nav_ && cursor->nav_version != nav_version_) {
+    // "active (rotate)" while a recovery runs.
+    const std::string state = std::string(NavStateName(nav_->state)) +
+                              (nav_->recovery == RecoveryPhase::kNone
+                                   ? ""
+                                   : std::string(" (") + RecoveryPhaseName(nav_->recovery) + ")");
     fields.push_back(
-        {"nav", JsonObject({{"state", JsonString(nav_->state)},
+        {"nav", JsonObject({{"state", JsonString(state)},
                             {"goal_id", std::to_string(nav_->goal_id)},
                             {"goal", PointJson(nav_->goal_m)},
                             {"distance_remaining_m", Num(nav_->distance_remaining_m, 2)},
@@ -361,10 +367,10 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->path_version = path_version_;
   }
   if (explore_ && cursor->explore_version != explore_version_) {
-    const ViewerExplore& e = *explore_;
-    fields.push_back({"explore", JsonObject({{"state", JsonString(e.state)},
+    const ExploreStatus& e = *explore_;
+    fields.push_back({"explore", JsonObject({{"state", JsonString(ExploreStateName(e.state))},
                                              {"detail", JsonString(e.detail)},
-                                             {"method", JsonString(e.method)},
+                                             {"method", JsonString(UtilityMethodName(e.method))},
                                              {"current_goal_id", std::to_string(e.current_goal_id)},
                                              {"num_frontiers", std::to_string(e.num_frontiers)},
                                              {"num_eligible", std::to_string(e.num_eligible)},
@@ -383,17 +389,17 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
   }
   if (!processes_.empty() && cursor->processes_version != processes_version_) {
     std::string list = "[";
-    for (const auto& [deputy, processes] : processes_) {
-      for (const ViewerProcess& p : processes) {
+    for (const auto& [deputy, status] : processes_) {
+      for (const ProcessStatus& p : status.processes) {
         if (list.size() > 1) list += ",";
         list += JsonObject({{"name", JsonString(p.name)},
-                            {"host", JsonString(p.host)},
-                            {"state", JsonString(p.state)},
+                            {"host", JsonString(deputy)},
+                            {"state", JsonString(ProcessStateName(p.state))},
                             {"pid", std::to_string(p.pid)},
                             {"restarts", std::to_string(p.restarts)},
                             {"cpu_percent", Num(p.cpu_percent, 1)},
-                            {"rss_mb", Num(p.rss_mb, 1)},
-                            {"last_exit", std::to_string(p.last_exit)}});
+                            {"rss_mb", Num(p.rss_bytes / 1e6, 1)},
+                            {"last_exit", std::to_string(p.exit_code)}});
       }
     }
     fields.push_back({"processes", list + "]"});

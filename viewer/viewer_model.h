@@ -18,62 +18,19 @@
 #include "common/pose_graph.h"
 #include "common/sensor_types.h"
 #include "frontier/frontier.h"
+#include "navigation/navigator.h"
+#include "procman/process_status.h"
+#include "utility/exploration_manager.h"
+#include "utility/goal_selector.h"
 
 namespace aslam {
 
-// One frontier's utility terms, as UTILITY_SCORES carries them.
-struct ViewerScoreRow {
-  int frontier_id = -1;
-  Point2d target_m;
-  double path_length_m = 0.0;
-  double u1 = 0.0;
-  double mean_entropy_bits = 0.0;  // Ē
-  int ray_cells = 0;               // K
-  double gamma = 0.0;
-  double rho = 0.0;
-  double u2 = 0.0;
-  double total = 0.0;  // not finite for an ineligible frontier
-  bool eligible = false;
-  std::string reason;  // why not eligible: too_close, unreachable, blacklisted, too_far
-  bool chosen = false;
-};
-
+// One decision's UTILITY_SCORES: every frontier's terms.
 struct ViewerScores {
   int64_t decision_id = 0;
   std::string method;
   int chosen_frontier_id = -1;
-  std::vector<ViewerScoreRow> rows;
-};
-
-struct ViewerNav {
-  std::string state;  // idle, active, reached, failed, unreachable
-  int64_t goal_id = -1;
-  Point2d goal_m;
-  double distance_remaining_m = -1.0;
-  std::string detail;
-};
-
-struct ViewerExplore {
-  std::string state;  // waiting, exploring, done, paused, returning, stopped
-  std::string detail;
-  std::string method;
-  int64_t current_goal_id = -1;
-  int num_frontiers = 0;
-  int num_eligible = 0;
-  int decisions = 0;
-  int goals_reached = 0;
-  int goals_failed = 0;
-};
-
-struct ViewerProcess {
-  std::string name;
-  std::string host;  // the deputy
-  std::string state;
-  int pid = 0;
-  int restarts = 0;
-  int last_exit = 0;
-  double cpu_percent = 0.0;
-  double rss_mb = 0.0;
+  std::vector<FrontierScore> scores;
 };
 
 // What one page has been sent so far (Update() advances it).
@@ -107,11 +64,11 @@ class ViewerModel {
   void OnGraph(const PoseGraph& graph, int64_t utime);
   void OnFrontiers(const FrontierList& frontiers);
   void OnScores(ViewerScores scores, int64_t utime);
-  void OnNavStatus(ViewerNav nav, int64_t utime);
+  void OnNavStatus(const NavStatus& nav);
   void OnNavPath(std::vector<Point2d> path_m, int64_t utime);
-  void OnExploreStatus(ViewerExplore status, int64_t utime);
+  void OnExploreStatus(const ExploreStatus& status);
   // PROCMAN_STATUS of one deputy (wall-clock time, so it does not move t_s).
-  void OnProcesses(const std::string& deputy, std::vector<ViewerProcess> processes);
+  void OnProcesses(const DeputyStatus& deputy);
 
   // The `update` frame for a page at `cursor`, or "" when nothing changed for it.
   std::string Update(ViewerCursor* cursor) const;
@@ -150,13 +107,13 @@ class ViewerModel {
   uint64_t frontiers_version_ = 0;
   std::optional<ViewerScores> scores_;
   uint64_t scores_version_ = 0;
-  std::optional<ViewerNav> nav_;
+  std::optional<NavStatus> nav_;
   uint64_t nav_version_ = 0;
   std::vector<Point2d> path_m_;
   uint64_t path_version_ = 0;
-  std::optional<ViewerExplore> explore_;
+  std::optional<ExploreStatus> explore_;
   uint64_t explore_version_ = 0;
-  std::map<std::string, std::vector<ViewerProcess>> processes_;  // by deputy
+  std::map<std::string, DeputyStatus> processes_;  // by deputy
   uint64_t processes_version_ = 0;
 
   std::vector<std::array<double, 3>> series_;

@@ -172,7 +172,7 @@ TEST(ViewerModel, ScoresCarryEveryTermAndNonFiniteTotalsAsNull) {
   scores.decision_id = 4;
   scores.method = "ours";
   scores.chosen_frontier_id = 2;
-  ViewerScoreRow chosen;
+  FrontierScore chosen;
   chosen.frontier_id = 2;
   chosen.u1 = 0.5;
   chosen.mean_entropy_bits = 0.25;
@@ -181,13 +181,12 @@ TEST(ViewerModel, ScoresCarryEveryTermAndNonFiniteTotalsAsNull) {
   chosen.rho = 10.0;
   chosen.u2 = 9.5;
   chosen.total = 5.0;
-  chosen.eligible = true;
   chosen.chosen = true;
-  ViewerScoreRow blocked;
+  FrontierScore blocked;
   blocked.frontier_id = 3;
   blocked.total = -std::numeric_limits<double>::infinity();
-  blocked.reason = "a \"quoted\" reason";
-  scores.rows = {chosen, blocked};
+  blocked.eligibility = Eligibility::kBlacklisted;
+  scores.scores = {chosen, blocked};
   model.OnScores(scores, kSecond);
   ViewerCursor page;
   const std::string frame = Compact(model.Update(&page));
@@ -195,8 +194,7 @@ TEST(ViewerModel, ScoresCarryEveryTermAndNonFiniteTotalsAsNull) {
   EXPECT_THAT(frame, HasSubstr("\"u1\":0.5000,\"mean_entropy_bits\":0.2500,\"ray_cells\":120,"
                                "\"gamma\":0.1250,\"rho\":10.0000,\"u2\":9.5000,\"total\":5.0000,"
                                "\"eligible\":true"));
-  EXPECT_THAT(frame, HasSubstr("\"total\":null,\"eligible\":false,"
-                               "\"reason\":\"a \\\"quoted\\\" reason\""));
+  EXPECT_THAT(frame, HasSubstr("\"total\":null,\"eligible\":false,\"reason\":\"blacklisted\""));
 }
 
 TEST(ViewerModel, TheSeriesHasOnePointPerSecondOfKnownAreaAndDOptimality) {
