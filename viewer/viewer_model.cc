@@ -27,7 +27,8 @@ std::string Num(double value, int decimals = 3) {
   return Format("%.*f", decimals, value);
 }
 
-std::string PointJson(Point2d p) { return "[" + Num(p.x_m) + "," + Num(p.y_m) + "]"; }
+// Drawn points to the centimetre: a page shows 5 cm cells.
+std::string PointJson(Point2d p) { return "[" + Num(p.x_m, 2) + "," + Num(p.y_m, 2) + "]"; }
 
 std::string PointsJson(const std::vector<Point2d>& points, std::size_t from = 0) {
   std::string out = "[";
@@ -213,12 +214,21 @@ void ViewerModel::OnScan(const LidarScan& scan) {
 
 void ViewerModel::OnGraph(const PoseGraph& graph, int64_t utime) {
   // Node ids are dense from 0 (a POSE_GRAPH is rejected otherwise), so an id is its index.
-  nodes_m_.clear();
-  for (const PoseGraphNode& node : graph.nodes) nodes_m_.push_back({node.pose.x_m, node.pose.y_m});
-  edges_.clear();
+  std::vector<Point2d> nodes;
+  for (const PoseGraphNode& node : graph.nodes) nodes.push_back({node.pose.x_m, node.pose.y_m});
+  std::vector<std::array<int, 3>> edges;
   for (const PoseGraphEdge& edge : graph.edges) {
-    edges_.push_back({edge.from_id, edge.to_id, edge.kind == EdgeKind::kLoopClosure ? 1 : 0});
+    edges.push_back({edge.from_id, edge.to_id, edge.kind == EdgeKind::kLoopClosure ? 1 : 0});
   }
+  // Pages get only the new keyframes and edges unless the old ones moved (a loop closure)
+  // by a centimetre (what they are drawn to) or the graph shrank (a SLAM restart).
+  bool rewritten = nodes.size() < nodes_m_.size() || edges.size() < edges_.size() ||
+                   !std::equal(edges_.begin(), edges_.end(), edges.begin());
+  for (std::size_t i = 0; i < nodes_m_.size() && !rewritten; ++i) {
+    rewritten = std::hypot(nodes[i].x_m - nodes_m_[i].x_m, nodes[i].y_m - nodes_m_[i].y_m) >= 0.01;
+  }
+  nodes_m_ = std::move(nodes);
+  edges_ = std::move(edges);
   mean_edge_d_opt_ = graph.edges.empty() ? std::nan("") : MeanEdgeDOptimality(graph);
   // The trail is the keyframes (optimized) plus the poses after the newest of them.
   if (!trail_since_graph_m_.empty()) {
@@ -226,6 +236,7 @@ void ViewerModel::OnGraph(const PoseGraph& graph, int64_t utime) {
   }
   Advance(utime);
   graph_version_ = version_;
+  if (rewritten) graph_rewrite_version_ = version_;
 }
 
 void ViewerModel::OnFrontiers(const FrontierList& frontiers) {
@@ -320,16 +331,22 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->pose_version = pose_version_;
   }
   if (cursor->graph_version != graph_version_ || reset) {
+    const bool whole = reset || cursor->graph_rewrite_version != graph_rewrite_version_;
+    const std::size_t from_node = whole ? 0 : cursor->graph_nodes_sent;
+    const std::size_t from_edge = whole ? 0 : cursor->graph_edges_sent;
     std::string edges = "[";
-    for (std::size_t i = 0; i < edges_.size(); ++i) {
-      edges += Format("%s[%d,%d,%d]", i ? "," : "", edges_[i][0], edges_[i][1], edges_[i][2]);
+    for (std::size_t i = from_edge; i < edges_.size(); ++i) {
+      edges += Format("%s[%d,%d,%d]", i > from_edge ? "," : "", edges_[i][0], edges_[i][1],
+                      edges_[i][2]);
     }
     fields.push_back(
-        {"graph", "{\"nodes\":" + PointsJson(nodes_m_) + ",\"edges\":" + edges + "]}"});
-    std::vector<Point2d> trail = nodes_m_;
-    trail.insert(trail.end(), trail_since_graph_m_.begin(), trail_since_graph_m_.end());
-    fields.push_back({"trail", PointsJson(trail)});
+        {whole ? "graph" : "graph_append",
+         "{\"nodes\":" + PointsJson(nodes_m_, from_node) + ",\"edges\":" + edges + "]}"});
+    fields.push_back({"trail", PointsJson(trail_since_graph_m_)});
     cursor->graph_version = graph_version_;
+    cursor->graph_rewrite_version = graph_rewrite_version_;
+    cursor->graph_nodes_sent = nodes_m_.size();
+    cursor->graph_edges_sent = edges_.size();
     cursor->trail_sent = trail_since_graph_m_.size();
   } else if (cursor->trail_sent < trail_since_graph_m_.size()) {
     fields.push_back({"trail_append", PointsJson(trail_since_graph_m_, cursor->trail_sent)});

@@ -39,6 +39,9 @@ struct ViewerCursor {
   std::optional<OccupancyGrid> map;  // the grid as the page has it (quantized)
   int64_t map_revision = -1;
   uint64_t graph_version = 0;
+  uint64_t graph_rewrite_version = 0;
+  std::size_t graph_nodes_sent = 0;
+  std::size_t graph_edges_sent = 0;
   std::size_t trail_sent = 0;  // poses since the newest keyframe already sent
   uint64_t pose_version = 0;
   uint64_t scan_version = 0;
@@ -93,7 +96,8 @@ class ViewerModel {
 
   std::optional<StampedPose> pose_;
   uint64_t pose_version_ = 0;
-  std::vector<Point2d> trail_since_graph_m_;  // poses after the newest keyframe, 5 cm apart
+  // Poses after the newest keyframe, 5 cm apart (a page draws the keyframes, then these).
+  std::vector<Point2d> trail_since_graph_m_;
 
   std::vector<Point2d> scan_m_;
   uint64_t scan_version_ = 0;
@@ -101,7 +105,8 @@ class ViewerModel {
   std::vector<Point2d> nodes_m_;
   std::vector<std::array<int, 3>> edges_;  // from index, to index, kind
   uint64_t graph_version_ = 0;
-  double mean_edge_d_opt_ = 0.0;  // NaN without edges
+  uint64_t graph_rewrite_version_ = 0;  // the last graph whose old nodes or edges changed
+  double mean_edge_d_opt_ = 0.0;        // NaN without edges
 
   std::optional<FrontierList> frontiers_;
   uint64_t frontiers_version_ = 0;

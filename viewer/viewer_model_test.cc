@@ -132,38 +132,71 @@ TEST(ViewerModel, EachPageHasItsOwnCursorAndAResetStartsAfresh) {
   EXPECT_THAT(Compact(model.Update(&a)), HasSubstr("\"pose\":{\"x_m\":1.000,\"y_m\":2.000"));
   model.OnPose(StampedPose{2 * kSecond, {1.5, 2.0, 0.5}, 0.0, 0.0});
   const std::string a2 = Compact(model.Update(&a));
-  EXPECT_THAT(a2, HasSubstr("\"trail_append\":[[1.500,2.000]]"));
+  EXPECT_THAT(a2, HasSubstr("\"trail_append\":[[1.50,2.00]]"));
   EXPECT_THAT(a2, Not(HasSubstr("reset")));
 
   ViewerCursor b;  // a page that connects later gets everything
   const std::string b1 = Compact(model.Update(&b));
   EXPECT_THAT(b1, HasSubstr("\"reset\":true"));
-  EXPECT_THAT(b1, HasSubstr("\"trail\":[[1.000,2.000],[1.500,2.000]]"));
+  EXPECT_THAT(b1, HasSubstr("\"trail\":[[1.00,2.00],[1.50,2.00]]"));
 
   a.reset_pending = true;  // a seek
   EXPECT_THAT(Compact(model.Update(&a)), HasSubstr("\"reset\":true"));
 }
 
-TEST(ViewerModel, TheTrailIsTheKeyframesThenThePosesAfterTheNewest) {
+PoseGraph Chain(int nodes, double y_m = 0.1) {
+  PoseGraph graph;
+  for (int i = 0; i < nodes; ++i) {
+    graph.nodes.push_back({i, i, {0.3 * i, y_m, 0.0}});
+    if (i > 0) {
+      PoseGraphEdge odometry;
+      odometry.from_id = i - 1;
+      odometry.to_id = i;
+      graph.edges.push_back(odometry);
+    }
+  }
+  return graph;
+}
+
+TEST(ViewerModel, TheTrailIsThePosesAfterTheNewestKeyframe) {
   ViewerModel model;
   ViewerCursor page;
   model.OnPose(StampedPose{kSecond, {0.0, 0.0, 0.0}, 0.0, 0.0});
   model.OnPose(StampedPose{kSecond + 1, {0.01, 0.0, 0.0}, 0.0, 0.0});  // under 5 cm: not kept
   model.OnPose(StampedPose{kSecond + 2, {0.3, 0.0, 0.0}, 0.0, 0.0});
-  model.Update(&page);
-  PoseGraph graph;
-  graph.nodes = {{0, 0, {0.0, 0.1, 0.0}}, {1, 1, {0.3, 0.1, 0.0}}};  // optimized: moved up
-  PoseGraphEdge odometry;
-  odometry.from_id = 0;
-  odometry.to_id = 1;
-  PoseGraphEdge closure = odometry;
+  EXPECT_THAT(Compact(model.Update(&page)), HasSubstr("\"trail\":[[0.00,0.00],[0.30,0.00]]"));
+  PoseGraph graph = Chain(2);  // optimized: 10 cm up from the poses
+  PoseGraphEdge closure = graph.edges[0];
   closure.kind = EdgeKind::kLoopClosure;
-  graph.edges = {odometry, closure};
+  graph.edges.push_back(closure);
   model.OnGraph(graph, 2 * kSecond);
   const std::string frame = Compact(model.Update(&page));
-  EXPECT_THAT(frame, HasSubstr("\"graph\":{\"nodes\":[[0.000,0.100],[0.300,0.100]],"
+  // Appended to the empty graph the page had.
+  EXPECT_THAT(frame, HasSubstr("\"graph_append\":{\"nodes\":[[0.00,0.10],[0.30,0.10]],"
                                "\"edges\":[[0,1,0],[0,1,1]]}"));
-  EXPECT_THAT(frame, HasSubstr("\"trail\":[[0.000,0.100],[0.300,0.100],[0.300,0.000]]"));
+  EXPECT_THAT(frame, HasSubstr("\"trail\":[[0.30,0.00]]"));  // the page draws the nodes first
+}
+
+TEST(ViewerModel, NewKeyframesAreAppendedUntilALoopClosureMovesTheOldOnes) {
+  ViewerModel model;
+  ViewerCursor page;
+  model.OnGraph(Chain(3), kSecond);
+  EXPECT_THAT(Compact(model.Update(&page)), HasSubstr("\"graph\":{\"nodes\":[[0.00,0.10],"));
+
+  model.OnGraph(Chain(4), 2 * kSecond);  // one more keyframe, the others where they were
+  const std::string appended = Compact(model.Update(&page));
+  EXPECT_THAT(appended,
+              HasSubstr("\"graph_append\":{\"nodes\":[[0.90,0.10]],\"edges\":[[2,3,0]]}"));
+  EXPECT_THAT(appended, Not(HasSubstr("\"graph\":")));
+
+  ViewerCursor late;  // a page that connects now gets the whole graph
+  EXPECT_THAT(Compact(model.Update(&late)), HasSubstr("\"graph\":{\"nodes\":[[0.00,0.10],"
+                                                      "[0.30,0.10],[0.60,0.10],[0.90,0.10]]"));
+
+  model.OnGraph(Chain(5, /*y_m=*/0.15), 3 * kSecond);  // optimized: every node moved 5 cm
+  const std::string moved = Compact(model.Update(&page));
+  EXPECT_THAT(moved, HasSubstr("\"graph\":{\"nodes\":[[0.00,0.15],[0.30,0.15],"));
+  EXPECT_THAT(moved, Not(HasSubstr("graph_append")));
 }
 
 TEST(ViewerModel, ScoresCarryEveryTermAndNonFiniteTotalsAsNull) {

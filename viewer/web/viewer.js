@@ -361,6 +361,13 @@
       }
       invalidate('map');
     });
+    // New keyframes and edges after the ones the page has (the old ones did not move).
+    step('graph_append', (g) => {
+      if (!g || typeof g !== 'object') return;
+      if (Array.isArray(g.nodes)) for (const p of g.nodes) S.graph.nodes.push(isPt(p) ? p : null);
+      if (Array.isArray(g.edges)) for (const e of g.edges) S.graph.edges.push(e);
+      invalidate('map');
+    });
 
     let frontiersChanged = false;
     step('frontiers', (f) => {
@@ -825,6 +832,7 @@
     const add = (p) => { x0 = Math.min(x0, p[0]); y0 = Math.min(y0, p[1]); x1 = Math.max(x1, p[0]); y1 = Math.max(y1, p[1]); };
     if (S.pose) add([S.pose.x, S.pose.y]);
     for (const p of S.trail) add(p);
+    for (const p of S.graph.nodes) if (p) add(p);
     for (const p of S.scan) add(p);
     if (!(x1 >= x0)) return null;
     return [x0, y0, x1, y1];
@@ -1113,13 +1121,14 @@
       ctx.fill();
     }
 
-    // trail
-    if (S.trail.length > 1) {
+    // trail: the keyframes in order (as optimized), then the poses since the newest of them
+    const trail = S.graph.nodes.filter((n) => n).concat(S.trail);
+    if (trail.length > 1) {
       ctx.strokeStyle = '#ff9800';
       ctx.lineWidth = 1.6 * px;
       ctx.beginPath();
-      ctx.moveTo(S.trail[0][0], S.trail[0][1]);
-      for (let i = 1; i < S.trail.length; i++) ctx.lineTo(S.trail[i][0], S.trail[i][1]);
+      ctx.moveTo(trail[0][0], trail[0][1]);
+      for (let i = 1; i < trail.length; i++) ctx.lineTo(trail[i][0], trail[i][1]);
       ctx.stroke();
     }
 
