@@ -18,7 +18,7 @@ namespace {
 
 constexpr uint8_t kUnknownByte = 255;
 constexpr double kTrailSpacingM = 0.05;
-constexpr std::size_t kMaxScanPoints = 720;
+constexpr std::size_t kMaxScanPoints = 360;  // a picture of the scan, not the scan
 constexpr int64_t kSeriesPeriodUs = 1'000'000;
 
 // A number for a page: fixed decimals (metres to the millimetre is plenty), null if not finite.
@@ -133,17 +133,39 @@ std::string ScoresJson(const ViewerScores& s) {
                      {"rows", "[" + rows + "]"}});
 }
 
-std::string FrontiersJson(const FrontierList& list) {
+// FNV-1a over the cells' coordinates as drawn (to the centimetre).
+uint64_t CellsHash(const std::vector<Point2d>& points) {
+  uint64_t hash = 1469598103934665603ull;
+  for (const Point2d& p : points) {
+    for (const double v : {p.x_m, p.y_m}) {
+      hash ^= static_cast<uint64_t>(std::llround(v * 100.0));
+      hash *= 1099511628211ull;
+    }
+  }
+  return hash;
+}
+
+// Every frontier; the cells only of those whose cells the page does not have yet (a frontier
+// without "cells" keeps those of its id), the bulk of the traffic otherwise.
+std::string FrontiersJson(const FrontierList& list, const std::vector<uint64_t>& hashes,
+                          std::map<int, uint64_t>* sent) {
+  std::map<int, uint64_t> now;
   std::string out = "[";
   for (std::size_t i = 0; i < list.frontiers.size(); ++i) {
     const Frontier& f = list.frontiers[i];
-    if (i) out += ",";
-    out += JsonObject({{"id", std::to_string(f.id)},
-                       {"centroid", PointJson(f.centroid_m)},
-                       {"target", PointJson(f.target_m)},
-                       {"size", std::to_string(f.size_cells())},
-                       {"cells", PointsJson(f.points_m)}});
+    std::vector<std::pair<std::string, std::string>> fields = {
+        {"id", std::to_string(f.id)},
+        {"centroid", PointJson(f.centroid_m)},
+        {"target", PointJson(f.target_m)},
+        {"size", std::to_string(f.size_cells())}};
+    const auto known = sent->find(f.id);
+    if (known == sent->end() || known->second != hashes[i]) {
+      fields.push_back({"cells", PointsJson(f.points_m)});
+    }
+    now[f.id] = hashes[i];
+    out += (i ? "," : "") + JsonObject(fields);
   }
+  *sent = std::move(now);
   return out + "]";
 }
 
@@ -241,6 +263,9 @@ void ViewerModel::OnGraph(const PoseGraph& graph, int64_t utime) {
 
 void ViewerModel::OnFrontiers(const FrontierList& frontiers) {
   frontiers_ = frontiers;
+  frontier_cells_hash_.clear();
+  for (const Frontier& f : frontiers.frontiers)
+    frontier_cells_hash_.push_back(CellsHash(f.points_m));
   Advance(frontiers.utime);
   frontiers_version_ = version_;
 }
@@ -357,32 +382,34 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->scan_version = scan_version_;
   }
   if (frontiers_ && cursor->frontiers_version != frontiers_version_) {
-    fields.push_back({"frontiers", FrontiersJson(*frontiers_)});
+    fields.push_back({"frontiers", FrontiersJson(*frontiers_, frontier_cells_hash_,
+                                                 &cursor->frontier_cells_sent)});
     cursor->frontiers_version = frontiers_version_;
   }
   if (scores_ && cursor->scores_version != scores_version_) {
     fields.push_back({"scores", ScoresJson(*scores_)});
     cursor->scores_version = scores_version_;
   }
+  // The state when it changed, the path (newest NAV_PATH) only when that changed.
+  std::vector<std::pair<std::string, std::string>> nav;
   if (nav_ && cursor->nav_version != nav_version_) {
     // "active (rotate)" while a recovery runs.
     const std::string state = std::string(NavStateName(nav_->state)) +
                               (nav_->recovery == RecoveryPhase::kNone
                                    ? ""
                                    : std::string(" (") + RecoveryPhaseName(nav_->recovery) + ")");
-    fields.push_back(
-        {"nav", JsonObject({{"state", JsonString(state)},
-                            {"goal_id", std::to_string(nav_->goal_id)},
-                            {"goal", PointJson(nav_->goal_m)},
-                            {"distance_remaining_m", Num(nav_->distance_remaining_m, 2)},
-                            {"detail", JsonString(nav_->detail)},
-                            {"path", PointsJson(path_m_)}})});
+    nav = {{"state", JsonString(state)},
+           {"goal_id", std::to_string(nav_->goal_id)},
+           {"goal", PointJson(nav_->goal_m)},
+           {"distance_remaining_m", Num(nav_->distance_remaining_m, 2)},
+           {"detail", JsonString(nav_->detail)}};
     cursor->nav_version = nav_version_;
-    cursor->path_version = path_version_;
-  } else if (cursor->path_version != path_version_ && nav_) {
-    fields.push_back({"nav", JsonObject({{"path", PointsJson(path_m_)}})});
+  }
+  if (cursor->path_version != path_version_) {
+    nav.push_back({"path", PointsJson(path_m_)});
     cursor->path_version = path_version_;
   }
+  if (!nav.empty()) fields.push_back({"nav", JsonObject(nav)});
   if (explore_ && cursor->explore_version != explore_version_) {
     const ExploreStatus& e = *explore_;
     fields.push_back({"explore", JsonObject({{"state", JsonString(ExploreStateName(e.state))},

@@ -46,6 +46,7 @@ struct ViewerCursor {
   uint64_t pose_version = 0;
   uint64_t scan_version = 0;
   uint64_t frontiers_version = 0;
+  std::map<int, uint64_t> frontier_cells_sent;  // id -> hash of the cells the page has
   uint64_t scores_version = 0;
   uint64_t nav_version = 0;
   uint64_t path_version = 0;
@@ -109,6 +110,7 @@ class ViewerModel {
   double mean_edge_d_opt_ = 0.0;        // NaN without edges
 
   std::optional<FrontierList> frontiers_;
+  std::vector<uint64_t> frontier_cells_hash_;  // per frontier of frontiers_
   uint64_t frontiers_version_ = 0;
   std::optional<ViewerScores> scores_;
   uint64_t scores_version_ = 0;

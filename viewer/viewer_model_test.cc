@@ -199,6 +199,40 @@ TEST(ViewerModel, NewKeyframesAreAppendedUntilALoopClosureMovesTheOldOnes) {
   EXPECT_THAT(moved, Not(HasSubstr("graph_append")));
 }
 
+FrontierList TwoFrontiers(int64_t utime, double second_x_m) {
+  FrontierList list;
+  list.utime = utime;
+  for (const auto& [id, x] : std::vector<std::pair<int, double>>{{7, 1.0}, {8, second_x_m}}) {
+    Frontier f;
+    f.id = id;
+    f.points_m = {{x, 2.0}, {x + 0.05, 2.0}};
+    f.centroid_m = f.target_m = {x, 2.0};
+    list.frontiers.push_back(f);
+  }
+  return list;
+}
+
+// Frontier cells are most of the traffic: a page gets them once per change of a frontier.
+TEST(ViewerModel, AFrontiersCellsAreSentOnlyWhenThePageDoesNotHaveThem) {
+  ViewerModel model;
+  ViewerCursor page;
+  model.OnFrontiers(TwoFrontiers(kSecond, 3.0));
+  const std::string first = Compact(model.Update(&page));
+  EXPECT_THAT(first, HasSubstr("{\"id\":7,\"centroid\":[1.00,2.00],\"target\":[1.00,2.00],"
+                               "\"size\":2,\"cells\":[[1.00,2.00],[1.05,2.00]]}"));
+  EXPECT_THAT(first, HasSubstr("\"id\":8,\"centroid\":[3.00,2.00],\"target\":[3.00,2.00],"
+                               "\"size\":2,\"cells\":[[3.00,2.00],[3.05,2.00]]}"));
+
+  model.OnFrontiers(TwoFrontiers(2 * kSecond, 3.5));  // frontier 8 moved, 7 did not
+  const std::string second = Compact(model.Update(&page));
+  EXPECT_THAT(second, HasSubstr("{\"id\":7,\"centroid\":[1.00,2.00],\"target\":[1.00,2.00],"
+                                "\"size\":2}"));
+  EXPECT_THAT(second, HasSubstr("\"cells\":[[3.50,2.00],[3.55,2.00]]"));
+
+  ViewerCursor late;  // a new page has no cells at all
+  EXPECT_THAT(Compact(model.Update(&late)), HasSubstr("\"cells\":[[1.00,2.00],[1.05,2.00]]"));
+}
+
 TEST(ViewerModel, ScoresCarryEveryTermAndNonFiniteTotalsAsNull) {
   ViewerModel model;
   ViewerScores scores;

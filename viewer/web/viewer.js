@@ -371,7 +371,13 @@
 
     let frontiersChanged = false;
     step('frontiers', (f) => {
-      S.frontiers = Array.isArray(f) ? f : [];
+      // A frontier without "cells" kept the cells the page has for its id.
+      const before = new Map();
+      for (const x of S.frontiers) if (x && x.id !== undefined) before.set(x.id, x);
+      S.frontiers = (Array.isArray(f) ? f : []).map((x) => {
+        if (!x || typeof x !== 'object' || 'cells' in x || !before.has(x.id)) return x;
+        return Object.assign({}, x, { cells: before.get(x.id).cells });
+      });
       api.lastFrontierCount = S.frontiers.length;
       frontiersChanged = true;
     });
