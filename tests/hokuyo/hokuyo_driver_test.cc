@@ -616,7 +616,7 @@ TEST(HokuyoSerialTest, GarbageBetweenScansIsSkipped) {
   o.port = emulator->device_path();
   RunningDriver running(o);
   ASSERT_TRUE(running.WaitForScans(3));
-  emulator->InjectGarbage(std::string("\x13\x80 line noise\n\xff\xfe", 18));
+  emulator->InjectGarbage("\x13\x80 line noise\n\xff\xfe");
   ASSERT_TRUE(WaitFor([&] { return running.driver().stats().garbage_bytes > 0; }));
   const std::size_t after = running.num_scans();
   ASSERT_TRUE(running.WaitForScans(after + 3));
