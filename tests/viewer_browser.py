@@ -5,6 +5,8 @@ loopback), for tests/viewer_browser_test.sh. Standard library only.
   viewer_browser.py check VIEWER_PORT DRIVER_PORT FIXTURE CONTROL_LOG_TO_WAIT SCREENSHOT
       loads the page, waits for the fixture's replay to be shown, then prints one line per
       check as 'ok: NAME' or 'FAILED: NAME (why)'.
+  viewer_browser.py screenshot VIEWER_PORT DRIVER_PORT FILE
+      loads the page, lets it take in the state for a few seconds, saves a screenshot.
   viewer_browser.py lcm-log-summary LOG
       prints each event as 'CHANNEL SIZE FIRST_BYTES_HEX' (to check what the page published).
 """
@@ -145,11 +147,27 @@ def check(viewer_port, driver_port, fixture, screenshot):
     return 0 if all(results) else 1
 
 
+def screenshot(viewer_port, driver_port, path, width=1400, height=820):
+    driver = WebDriver(driver_port)
+    try:
+        driver.call("POST", driver.s("/window/rect"), {"width": width, "height": height})
+        driver.go(f"http://127.0.0.1:{viewer_port}/")
+        wait_until(lambda: (driver.js("return window.aslamViewer || null") or {}).get("frames", 0)
+                   > 2)
+        time.sleep(3.0)
+        driver.screenshot(path)
+    finally:
+        driver.quit()
+    return 0
+
+
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == "lcm-log-summary":
         for channel, data in lcm_log_events(sys.argv[2]):
             print(channel, len(data), data[:24].hex())
         return 0
+    if len(sys.argv) == 5 and sys.argv[1] == "screenshot":
+        return screenshot(int(sys.argv[2]), int(sys.argv[3]), sys.argv[4])
     if len(sys.argv) == 6 and sys.argv[1] == "check":
         return check(int(sys.argv[2]), int(sys.argv[3]), sys.argv[4], sys.argv[5])
     print(__doc__, file=sys.stderr)
