@@ -1,5 +1,6 @@
 #include "common/lcm_util.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -8,6 +9,12 @@
 #include "common/cpu_time.h"
 
 namespace aslam {
+
+int64_t WallClockUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 
 std::string ResolveLcmUrl(const std::string& flag_value) {
   if (!flag_value.empty()) return flag_value;

@@ -19,6 +19,10 @@ inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 // The URL from a --lcm-url flag if given, else $LCM_DEFAULT_URL, else kDefaultLcmUrl.
 std::string ResolveLcmUrl(const std::string& flag_value);
 
+// Microseconds since the Unix epoch, for messages that carry wall-clock time (procman's,
+// EXPLORE_CONTROL); algorithm time is message time, never this.
+int64_t WallClockUtime();
+
 // Opens LCM on `url`; throws std::runtime_error naming the URL if it fails
 // (e.g. udpm without a multicast route), with a hint how to fix it.
 std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url);

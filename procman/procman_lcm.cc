@@ -1,7 +1,5 @@
 #include "procman/procman_lcm.h"
 
-#include <chrono>
-
 namespace aslam {
 namespace {
 
@@ -30,12 +28,6 @@ bool StateFromLcm(int8_t state, ProcessState* out) {
 }
 
 }  // namespace
-
-int64_t WallClockUtime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 procman_status_t ToLcm(const DeputyStatus& status, int64_t utime) {
   procman_status_t message{};

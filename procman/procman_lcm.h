@@ -19,7 +19,4 @@ procman_orders_t ToLcm(const DeputyOrders& orders, int64_t utime, const std::str
 // False for a message whose counts do not match its arrays or that names no process.
 bool FromLcm(const procman_orders_t& message, DeputyOrders* orders);
 
-// Microseconds since the Unix epoch: procman's messages carry wall-clock time.
-int64_t WallClockUtime();
-
 }  // namespace aslam

@@ -1,7 +1,6 @@
 #include "utility/utility_lcm.h"
 
-#include <chrono>
-
+#include "common/lcm_util.h"
 #include "common/types_lcm.h"
 
 namespace aslam {
@@ -140,9 +139,7 @@ std::optional<ExploreStatus> FromLcm(const explore_status_t& msg) {
 
 explore_control_t ExploreControlMessage(ExploreCommand command, const std::string& source) {
   explore_control_t msg{};
-  msg.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+  msg.utime = WallClockUtime();
   msg.command = ExploreCommandToLcm(command);
   msg.source = source;
   return msg;

@@ -205,6 +205,7 @@ void ViewerModel::OnMap(const OccupancyGrid& grid, int64_t revision, int64_t uti
   map_ = std::move(quantized);
   map_revision_ = revision;
   Advance(utime);
+  map_version_ = version_;
 }
 
 void ViewerModel::OnPose(const StampedPose& pose) {
@@ -306,7 +307,8 @@ void ViewerModel::OnProcesses(const DeputyStatus& deputy) {
 std::string ViewerModel::MapJson(ViewerCursor* cursor) const {
   const OccupancyGrid& grid = *map_;
   bool full = !cursor->map;
-  if (cursor->map && !SameGeometry(*cursor->map, grid)) {
+  const bool geometry_changed = cursor->map && !SameGeometry(*cursor->map, grid);
+  if (geometry_changed) {
     const std::optional<CellIndex> offset = LatticeOffset(*cursor->map, grid);
     if (offset) {
       cursor->map = Regrid(*cursor->map, grid, *offset);
@@ -328,7 +330,8 @@ std::string ViewerModel::MapJson(ViewerCursor* cursor) const {
     }
   }
   cursor->map = grid;
-  cursor->map_revision = map_revision_;
+  cursor->map_version = map_version_;
+  if (!full && tiles.empty() && !geometry_changed) return "";  // a re-announce: nothing new
   return Format(
       "{\"revision\":%lld,\"width\":%d,\"height\":%d,\"resolution_m\":%s,"
       "\"origin\":{\"x_m\":%s,\"y_m\":%s,\"yaw_rad\":0},\"full\":%s,\"tiles\":[%s]}",
@@ -345,9 +348,9 @@ std::string ViewerModel::Update(ViewerCursor* cursor) const {
     cursor->reset_pending = false;
     fields.push_back({"reset", "true"});
   }
-  if (map_ && (reset || cursor->map_revision != map_revision_ || !cursor->map ||
-               !SameGeometry(*cursor->map, *map_) || cursor->map->cells() != map_->cells())) {
-    fields.push_back({"map", MapJson(cursor)});
+  if (map_ && cursor->map_version != map_version_) {
+    const std::string map = MapJson(cursor);
+    if (!map.empty()) fields.push_back({"map", map});
   }
   if (pose_ && cursor->pose_version != pose_version_) {
     fields.push_back(

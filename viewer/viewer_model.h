@@ -37,7 +37,7 @@ struct ViewerScores {
 struct ViewerCursor {
   bool reset_pending = true;         // the next frame starts the page afresh
   std::optional<OccupancyGrid> map;  // the grid as the page has it (quantized)
-  int64_t map_revision = -1;
+  uint64_t map_version = 0;          // the model's map this page's grid was last diffed against
   uint64_t graph_version = 0;
   uint64_t graph_rewrite_version = 0;
   std::size_t graph_nodes_sent = 0;
@@ -85,6 +85,7 @@ class ViewerModel {
 
  private:
   void Advance(int64_t utime);
+  // The map's changed tiles for a page ("" when the page's grid already equals it).
   std::string MapJson(ViewerCursor* cursor) const;
 
   std::optional<int64_t> first_utime_;
@@ -93,6 +94,7 @@ class ViewerModel {
 
   std::optional<OccupancyGrid> map_;  // quantized as sent
   int64_t map_revision_ = 0;
+  uint64_t map_version_ = 0;
   double known_area_m2_ = 0.0;
 
   std::optional<StampedPose> pose_;
