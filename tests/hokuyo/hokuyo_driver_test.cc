@@ -18,11 +18,11 @@
 #include <mutex>
 #include <thread>
 
+#include "drivers/emulators/hokuyo_emulator.h"
 #include "drivers/hokuyo/hokuyo_driver.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
 #include "drivers/io/tcp_stream.h"
-#include "tests/hokuyo/hokuyo_emulator.h"
 
 namespace aslam {
 namespace {

@@ -1,4 +1,4 @@
-// The RPLIDAR driver against the emulator (tests/rplidar/rplidar_emulator.h) over a
+// The RPLIDAR driver against the emulator (drivers/emulators/rplidar_emulator.h) over a
 // pseudo-terminal: the bytes it sends, the scans it makes, and its recovery from faults.
 // Every wait is bounded; nothing asserts on wall-clock speed.
 
@@ -16,10 +16,10 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
+#include "drivers/emulators/rplidar_emulator.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
 #include "drivers/rplidar/rplidar_driver.h"
-#include "tests/rplidar/rplidar_emulator.h"
 
 namespace aslam {
 namespace {

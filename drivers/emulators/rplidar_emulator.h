@@ -34,6 +34,8 @@ struct RplidarEmulatorScanMode {
 };
 
 struct RplidarEmulatorOptions {
+  // Where the port's link is made ("" = in a temporary folder of the emulator's own).
+  std::string link_path;
   // What GET_INFO reports.
   uint8_t model_byte = 0x18;
   uint8_t firmware_major = 1;

@@ -1,4 +1,4 @@
-#include "tests/hokuyo/hokuyo_emulator.h"
+#include "drivers/emulators/hokuyo_emulator.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>

@@ -1,4 +1,4 @@
-#include "tests/rplidar/rplidar_emulator.h"
+#include "drivers/emulators/rplidar_emulator.h"
 
 #include <poll.h>
 #include <stdlib.h>
@@ -140,10 +140,14 @@ RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
 }
 
 RplidarEmulator::RplidarEmulator(RplidarEmulatorOptions options) : options_(std::move(options)) {
-  char dir[] = "/tmp/rplidar_emulator_XXXXXX";
-  if (!::mkdtemp(dir)) throw std::runtime_error("mkdtemp failed");
-  dir_ = dir;
-  link_path_ = dir_ + "/rplidar";
+  if (options_.link_path.empty()) {
+    char dir[] = "/tmp/rplidar_emulator_XXXXXX";
+    if (!::mkdtemp(dir)) throw std::runtime_error("mkdtemp failed");
+    dir_ = dir;
+    link_path_ = dir_ + "/rplidar";
+  } else {
+    link_path_ = options_.link_path;
+  }
   pty_ = std::make_unique<PseudoTerminal>();
   PointLink();
   thread_ = std::thread([this] { Run(); });
@@ -153,7 +157,7 @@ RplidarEmulator::~RplidarEmulator() {
   running_ = false;
   thread_.join();
   ::unlink(link_path_.c_str());
-  ::rmdir(dir_.c_str());
+  if (!dir_.empty()) ::rmdir(dir_.c_str());
 }
 
 void RplidarEmulator::PointLink() {
