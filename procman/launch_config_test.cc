@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
+#include <string>
 
 namespace aslam {
 namespace {
@@ -221,6 +224,70 @@ TEST(LaunchConfigTest, ExploreTemplateRecordsTheBusAndStartsTheSimLast) {
   for (const auto& p : c.processes) {
     EXPECT_LE(by_name["lcm-logger"]->start_order, p.start_order);
     EXPECT_GE(by_name["sim"]->start_order, p.start_order);
+  }
+}
+
+// Whether `flag` is followed by `value` among the process's arguments.
+bool HasFlag(const ProcessConfig& p, const std::string& flag, const std::string& value) {
+  for (std::size_t i = 0; i + 1 < p.args.size(); ++i) {
+    if (p.args[i] == flag && p.args[i + 1] == value) return true;
+  }
+  return false;
+}
+
+// The robot's launch files (the deputy that aslam-deputy.service starts at boot): the drivers
+// start with the deputy and stop last, the recorder and the exploration wait for a sheriff's
+// `start`, every process is on the deputy's bus and reads the config given as CONFIG.
+TEST(LaunchConfigTest, RobotLaunchFilesStartTheDriversAndLeaveThePipelineToTheUser) {
+  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  const LaunchVariables vars = {{"LCM_URL", url},   {"LOG_DIR", "/runs/1"},
+                                {"OUT", "/runs/1"}, {"BUILD", "/opt/aslam/build"},
+                                {"SRC", "/src"},    {"CONFIG", "/etc/aslam/aslam.yaml"}};
+  for (const std::string lidar : {"rplidar", "hokuyo"}) {
+    const std::string file =
+        std::string(ASLAM_SOURCE_DIR) + "/config/launch/robot_" + lidar + "_kobuki.yaml";
+    SCOPED_TRACE(file);
+    const LaunchConfig c = LoadLaunchConfigFromFile(file, vars);
+    EXPECT_EQ(c.deputy, "robot");
+    std::map<std::string, const ProcessConfig*> by_name;
+    for (const auto& p : c.processes) by_name[p.name] = &p;
+    const std::map<std::string, std::string> groups = {
+        {"kobuki", "drivers"}, {lidar, "drivers"},       {"lcm-logger", "record"},
+        {"slam", "pipeline"},  {"frontier", "pipeline"}, {"utility", "pipeline"},
+        {"nav", "pipeline"}};
+    ASSERT_EQ(by_name.size(), groups.size());
+    for (const auto& [name, group] : groups) {
+      ASSERT_TRUE(by_name.count(name)) << name;
+      const ProcessConfig& p = *by_name.at(name);
+      EXPECT_EQ(p.group, group) << name;
+      EXPECT_EQ(p.auto_start, group == "drivers") << name;
+      EXPECT_NE(p.restart, RestartPolicy::kNever) << name;
+      EXPECT_TRUE(HasFlag(p, "--lcm-url", url) ||
+                  std::find(p.args.begin(), p.args.end(), "--lcm-url=" + url) != p.args.end())
+          << name;
+      if (name != "lcm-logger") {
+        EXPECT_TRUE(HasFlag(p, "--config", "/etc/aslam/aslam.yaml")) << name;
+      }
+      for (const auto& other : c.processes) {
+        // Lower starts first and stops last: drivers, then the recorder, then the pipeline.
+        if ((group == "drivers" && other.group != "drivers") ||
+            (group == "record" && other.group == "pipeline")) {
+          EXPECT_LT(p.start_order, other.start_order) << name << " before " << other.name;
+        }
+      }
+    }
+    const ProcessConfig& kobuki = *by_name.at("kobuki");
+    EXPECT_EQ(kobuki.command, "/opt/aslam/build/drivers/kobuki/aslam-kobuki");
+    EXPECT_TRUE(HasFlag(kobuki, "--port", "/dev/kobuki"));
+    const ProcessConfig& sensor = *by_name.at(lidar);
+    EXPECT_EQ(sensor.command, "/opt/aslam/build/drivers/" + lidar + "/aslam-" + lidar);
+    EXPECT_TRUE(HasFlag(sensor, "--port", "/dev/" + lidar));
+    // The log goes into the run folder; a restart appends to it, never overwrites it.
+    const ProcessConfig& logger = *by_name.at("lcm-logger");
+    EXPECT_EQ(logger.args.back(), "/runs/1/run.lcmlog");
+    EXPECT_NE(std::find(logger.args.begin(), logger.args.end(), "--append"), logger.args.end());
+    EXPECT_EQ(std::find(logger.args.begin(), logger.args.end(), "--force"), logger.args.end());
+    EXPECT_TRUE(HasFlag(*by_name.at("slam"), "--journal-dir", "/runs/1"));
   }
 }
 
