@@ -51,6 +51,10 @@ DEFINE_string(lcm_url, "",
 DEFINE_string(launch, "",
               "process mode: aslam-procman launch config (default: config/launch/explore.yaml "
               "of the source tree)");
+DEFINE_bool(devices, false,
+            "explore, process mode: devices in the loop: aslam-kobuki and aslam-rplidar drive "
+            "emulated devices on pseudo-terminals (aslam-sim --devices), at real time "
+            "(default launch config: config/launch/explore_devices.yaml)");
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
 DEFINE_string(worlds, "office,campus",
               "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
@@ -73,7 +77,7 @@ namespace {
 constexpr const char* kUsage =
     "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
     "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--launch FILE] [--config FILE]\n"
-    "              [--return-home] [--set KEY=VALUE ...] --out DIR\n"
+    "              [--return-home] [--devices] [--set KEY=VALUE ...] --out DIR\n"
     "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
     "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
     "            [--report_only] --out DIR\n"
@@ -198,6 +202,10 @@ int Explore(const std::vector<std::string>& sets) {
                  FLAGS_launch.c_str());
     return 2;
   }
+  if (FLAGS_inproc && FLAGS_devices) {
+    std::fprintf(stderr, "aslam explore: --devices runs the driver processes: not with --inproc\n");
+    return 2;
+  }
   ExploreOptions options;
   options.world = FLAGS_world;
   options.method = FLAGS_method;
@@ -246,6 +254,7 @@ int Explore(const std::vector<std::string>& sets) {
       process.lcm_url = lcm_url;
       process.out_dir = FLAGS_out;
       process.launch_file = FLAGS_launch;
+      process.devices = FLAGS_devices;
       std::printf(
           "aslam explore: %s, method %s, seed %lld, up to %.0f s simulated, processes at %gx "
           "real time on %s (logs in %s)\n",

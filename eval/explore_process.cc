@@ -210,9 +210,14 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   }
   build = Absolute(build);
   const std::string procman = build + "/procman/aslam-procman";
-  const std::string launch = options.launch_file.empty()
-                                 ? std::string(ASLAM_SOURCE_DIR) + "/config/launch/explore.yaml"
-                                 : options.launch_file;
+  const std::string launch = !options.launch_file.empty()
+                                 ? options.launch_file
+                                 : std::string(ASLAM_SOURCE_DIR) + "/config/launch/" +
+                                       (options.devices ? "explore_devices.yaml" : "explore.yaml");
+  if (options.devices && options.rate != 1.0) {
+    throw std::invalid_argument("--devices runs at real time: --rate must be 1, not " +
+                                Number(options.rate));
+  }
   if (!fs::is_regular_file(launch)) {
     throw std::invalid_argument("--launch '" + launch + "': no such launch config file");
   }
@@ -237,7 +242,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
 
   // Listen first, so nothing the simulator says is missed.
   const auto lcm = OpenLcm(url);
-  RunListener listener(*lcm, world.map.grid);
+  RunListener listener(*lcm, world.map.grid, options.devices);
   // What procman says of its processes: restarts, and one that will not come back.
   ProcessHistoryTracker processes;
   Subscriptions procman_status(*lcm);

@@ -21,10 +21,13 @@
 namespace aslam {
 
 struct ExploreProcessOptions {
-  ExploreOptions explore;           // world, start, method, duration, seed, config, progress
-  double rate = 1.0;                // the simulator's real-time factor
-  std::string lcm_url;              // "" = PrivateLcmUrl(getpid())
-  std::string out_dir;              // the run folder: the deputy's log folder (created)
+  ExploreOptions explore;  // world, start, method, duration, seed, config, progress
+  double rate = 1.0;       // the simulator's real-time factor
+  std::string lcm_url;     // "" = PrivateLcmUrl(getpid())
+  std::string out_dir;     // the run folder: the deputy's log folder (created)
+  // Devices in the loop: the real drivers talk to emulated devices (aslam-sim --devices);
+  // the default launch file is then SOURCE/config/launch/explore_devices.yaml.
+  bool devices = false;
   std::string launch_file;          // "" = SOURCE/config/launch/explore.yaml
   std::string build_dir;            // "" = the build folder holding this binary (BUILD/eval/aslam)
   double startup_timeout_s = 20.0;  // wall seconds to wait for the simulator's first message

@@ -32,14 +32,14 @@ std::string StateName(const std::optional<explore_status_t>& status) {
 
 }  // namespace
 
-RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map)
-    : truth_map_(truth_map), subscriptions_(lcm) {
+RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool truth_on_host_clock)
+    : truth_map_(truth_map), truth_on_host_clock_(truth_on_host_clock), subscriptions_(lcm) {
   subscriptions_.Add<pose_t>(channels::kSimTruth, [this](const pose_t& m) {
     const auto pose = FromLcm(m);
     if (!pose) return false;
     if (truth_.empty() || pose->utime > truth_.back().utime)
       truth_.push_back({pose->utime, pose->pose});
-    Heard(pose->utime);
+    if (!truth_on_host_clock_) Heard(pose->utime);
     return true;
   });
   subscriptions_.Add<sim_status_t>(channels::kSimStatus, [this](const sim_status_t& m) {

@@ -25,7 +25,9 @@ namespace aslam {
 
 class RunListener {
  public:
-  RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map);
+  // truth_on_host_clock: SIM_TRUTH is stamped on the host's clock (devices in the loop), so
+  // only SIM_STATUS tells the simulated time.
+  RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool truth_on_host_clock = false);
 
   // The SLAM map placed in the world by the true pose of the first keyframe.
   std::optional<Pose2d> MapInWorld();
@@ -63,6 +65,7 @@ class RunListener {
   void Heard(int64_t utime);
 
   const OccupancyGrid& truth_map_;
+  bool truth_on_host_clock_;
   Subscriptions subscriptions_;
   bool heard_sim_ = false;
   int64_t sim_utime_ = 0;

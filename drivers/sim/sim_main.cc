@@ -18,6 +18,10 @@ DEFINE_double(rate, 1.0,
 DEFINE_double(duration, 0, "simulated seconds to run; 0 = until Ctrl-C (or the drive ends)");
 DEFINE_string(drive, "",
               "scripted drive file (list of velocity segments) followed instead of CMD_VEL");
+DEFINE_string(devices, "",
+              "devices in the loop: make DIR/kobuki and DIR/rplidar emulated devices for "
+              "aslam-kobuki and aslam-rplidar instead of publishing ODOMETRY and LIDAR_SCAN");
+DEFINE_string(devices_lidar, "a2", "the RPLIDAR model emulated with --devices: a1, a2, a3, s1, s2");
 DEFINE_double(progress, 5.0, "print a progress line every this many simulated seconds; 0 = never");
 
 int main(int argc, char** argv) {
@@ -35,5 +39,7 @@ int main(int argc, char** argv) {
   options.duration_s = FLAGS_duration;
   options.drive_file = FLAGS_drive;
   options.progress_period_s = FLAGS_progress;
+  options.devices_dir = FLAGS_devices;
+  options.devices_lidar = FLAGS_devices_lidar;
   return aslam::RunSimProcess(options);
 }

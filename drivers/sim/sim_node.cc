@@ -6,6 +6,7 @@
 
 #include "common/channels.h"
 #include "common/types_lcm.h"
+#include "drivers/sim/sim_devices.h"
 #include "drivers/sim/sim_lcm.h"
 
 namespace aslam {
@@ -20,7 +21,7 @@ bool SimNode::OnCommand(const velocity_command_t& msg) {
   const auto command = FromLcm(msg);
   if (!command) return false;
   ++commands_received_;
-  if (!options_.drive) simulator_.SetCommand(*command);
+  if (!options_.drive && !options_.devices) simulator_.SetCommand(*command);
   return true;
 }
 
@@ -34,17 +35,24 @@ void SimNode::Tick() {
       simulator_.SetCommand(*command);
     }
   }
+  if (options_.devices) simulator_.SetCommand(options_.devices->Command(simulator_.utime()));
   const SimStepOutput out = simulator_.Step();
-  if (out.odometry) {
-    const odometry_t msg = ToLcm(*out.odometry);
-    lcm_.publish(channels::kOdometry, &msg);
-  }
-  if (out.scan) {
-    const lidar_scan_t msg = ToLcm(*out.scan);
-    lcm_.publish(channels::kLidarScan, &msg);
+  if (options_.devices) {
+    options_.devices->AfterStep(out);
+  } else {
+    if (out.odometry) {
+      const odometry_t msg = ToLcm(*out.odometry);
+      lcm_.publish(channels::kOdometry, &msg);
+    }
+    if (out.scan) {
+      const lidar_scan_t msg = ToLcm(*out.scan);
+      lcm_.publish(channels::kLidarScan, &msg);
+    }
   }
   if (out.truth) {
-    const pose_t msg = ToLcm(*out.truth, "world");
+    StampedPose truth = *out.truth;
+    truth.utime += truth_clock_offset_us_;
+    const pose_t msg = ToLcm(truth, "world");
     lcm_.publish(channels::kSimTruth, &msg);
   }
   if (out.status) {

@@ -20,9 +20,14 @@
 
 namespace aslam {
 
+class SimDevices;
+
 struct SimNodeOptions {
   std::string world_label;             // reported in SIM_STATUS
   std::optional<ScriptedDrive> drive;  // when set, followed instead of CMD_VEL
+  // When set, the base and lidar are emulated devices (sim_devices.h): commands come from
+  // the base's driver, and ODOMETRY and LIDAR_SCAN from the drivers, not from this node.
+  SimDevices* devices = nullptr;
 };
 
 class SimNode {
@@ -40,6 +45,9 @@ class SimNode {
   const Subscriptions& subscriptions() const { return subscriptions_; }
   // Process mode reports its measured speed in SIM_STATUS.
   void set_real_time_factor(double factor) { real_time_factor_ = factor; }
+  // SIM_TRUTH stamped on the host's monotonic clock (simulated time + offset), so truth
+  // lines up with what device drivers stamp; SIM_STATUS keeps simulated time.
+  void set_truth_clock_offset_us(int64_t offset_us) { truth_clock_offset_us_ = offset_us; }
 
  private:
   bool OnCommand(const velocity_command_t& msg);
@@ -50,6 +58,7 @@ class SimNode {
   Subscriptions subscriptions_;
   int64_t commands_received_ = 0;
   double real_time_factor_ = 0.0;
+  int64_t truth_clock_offset_us_ = 0;
 };
 
 struct RealTimeOptions {

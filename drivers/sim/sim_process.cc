@@ -5,13 +5,16 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <memory>
 #include <optional>
 
 #include "common/lcm_util.h"
 #include "common/pose2d.h"
 #include "common/world_file.h"
+#include "drivers/io/host_clock.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_config.h"
+#include "drivers/sim/sim_devices.h"
 #include "drivers/sim/sim_node.h"
 
 namespace aslam {
@@ -44,6 +47,13 @@ int RunSimProcess(const SimProcessOptions& o) {
     std::fprintf(stderr, "aslam-sim: --rate and --duration must be >= 0\n");
     return 2;
   }
+  if (!o.devices_dir.empty() && (o.real_time_factor != 1.0 || !o.drive_file.empty())) {
+    std::fprintf(stderr,
+                 "aslam-sim: --devices runs at real time without a drive: the drivers stamp "
+                 "with the host clock and the base follows its driver (got --rate %g%s)\n",
+                 o.real_time_factor, o.drive_file.empty() ? "" : " and --drive");
+    return 2;
+  }
   try {
     SimulatorOptions options = LoadSimulatorOptionsFromFile(o.config_file);
     if (o.seed >= 0) options.seed = static_cast<uint64_t>(o.seed);
@@ -69,9 +79,22 @@ int RunSimProcess(const SimProcessOptions& o) {
     if (!o.drive_file.empty()) node_options.drive = LoadScriptedDrive(o.drive_file);
 
     Simulator simulator(map.grid, start, options);
+    std::unique_ptr<SimDevices> devices;
+    if (!o.devices_dir.empty()) {
+      SimDevicesOptions device_options;
+      device_options.dir = o.devices_dir;
+      device_options.rplidar_model = o.devices_lidar;
+      devices = std::make_unique<SimDevices>(simulator, device_options);
+      node_options.devices = devices.get();
+      std::printf("aslam-sim: devices in the loop: Kobuki on %s, RPLIDAR %s on %s\n",
+                  devices->kobuki_port().c_str(), o.devices_lidar.c_str(),
+                  devices->rplidar_port().c_str());
+    }
     const std::string url = ResolveLcmUrl(o.lcm_url);
     const auto lcm = OpenLcm(url);
     SimNode node(*lcm, simulator, std::move(node_options));
+    // Truth on the host's clock where drivers stamp the data; else on simulated time.
+    if (devices) node.set_truth_clock_offset_us(HostClockUtime() - node.utime());
 
     std::signal(SIGINT, [](int) { g_stop = true; });
     std::signal(SIGTERM, [](int) { g_stop = true; });

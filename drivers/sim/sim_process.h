@@ -20,6 +20,10 @@ struct SimProcessOptions {
   double duration_s = 0.0;         // simulated seconds to run; 0 = until stopped or the drive ends
   std::string drive_file;          // scripted drive followed instead of CMD_VEL; "": none
   double progress_period_s = 5.0;  // simulated seconds between progress lines; 0 = never
+  // Devices in the loop (sim_devices.h): DIR/kobuki and DIR/rplidar speak the devices'
+  // protocols for the real drivers; "": the simulator publishes ODOMETRY and LIDAR_SCAN.
+  std::string devices_dir;
+  std::string devices_lidar = "a2";  // the emulated RPLIDAR model
 };
 
 // Runs the process; returns its exit status: 0 after a clean stop, 1 on a
