@@ -48,7 +48,7 @@ YAML::Node ParseString(const std::string& text, const std::string& origin) {
 const std::vector<std::string>& KnownConfigSections() {
   static const std::vector<std::string> sections = {"robot",   "sim",     "slam",    "frontier",
                                                     "utility", "nav",     "procman", "explore",
-                                                    "eval",    "rplidar", "hokuyo"};
+                                                    "eval",    "rplidar", "hokuyo",  "kobuki"};
   return sections;
 }
 
