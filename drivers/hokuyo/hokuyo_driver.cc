@@ -504,11 +504,15 @@ void HokuyoDriver::RunSession(ByteStream& stream, const std::atomic<bool>& stop,
       std::lock_guard<std::mutex> lock(mutex_);
       finished = stats_;
     }
+    bool scanning = false;
     auto publish_stats = [&] {
       std::lock_guard<std::mutex> lock(mutex_);
       stats_ = finished;
       AddParserStats(&stats_, session.parser_stats());
       stats_.scans_dropped += session.scans_dropped();
+      stats_.connected = scanning && !stop;
+      stats_.clock_offset_ms = session.clock().offset_us() * 1e-3;
+      stats_.clock_jitter_ms = arrivals_.jitter_ms();
     };
     int64_t session_scans = 0;
     try {
@@ -528,10 +532,12 @@ void HokuyoDriver::RunSession(ByteStream& stream, const std::atomic<bool>& stop,
           std::to_string(session.clock().best_round_trip_s() * 1e3).substr(0, 5) + " ms); sent " +
           WithoutLineFeed(session.scan_command()));
       int64_t last_scan_utime = HostClockUtime();
+      scanning = true;
       while (!stop) {
         auto scan = session.ReadScan(100);
         if (scan) {
           last_scan_utime = HostClockUtime();
+          arrivals_.Map(scan->utime, last_scan_utime);
           failures = 0;
           ++session_scans;
           scan->seq = next_seq_++;
@@ -552,6 +558,7 @@ void HokuyoDriver::RunSession(ByteStream& stream, const std::atomic<bool>& stop,
       publish_stats();
       return;
     } catch (const ScipSessionError& e) {
+      scanning = false;
       publish_stats();
       const bool reopen = ++failures >= kMaxSessionRetries;
       {
@@ -565,6 +572,7 @@ void HokuyoDriver::RunSession(ByteStream& stream, const std::atomic<bool>& stop,
       Log("restarting the session on " + stream.name());
       if (!SleepUnlessStopped(std::min(options_.reconnect_backoff_s, 0.2), stop)) return;
     } catch (...) {
+      scanning = false;
       publish_stats();
       throw;
     }

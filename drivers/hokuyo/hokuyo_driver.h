@@ -24,6 +24,7 @@
 #include "common/sensor_types.h"
 #include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/io/byte_stream.h"
+#include "drivers/io/device_clock.h"
 
 namespace aslam {
 
@@ -112,6 +113,9 @@ struct HokuyoStats {
   int64_t checksum_errors = 0;  // ScipParser counts, summed over sessions
   int64_t partial_packets = 0;
   int64_t garbage_bytes = 0;
+  bool connected = false;        // a session is scanning
+  double clock_offset_ms = 0.0;  // host time minus sensor time, from the TM round trips
+  double clock_jitter_ms = 0.0;  // spread of the scans' arrivals around their mapped times
 };
 
 // Protocol trouble on a working byte stream (an error status, no answer, garbage):
@@ -202,6 +206,7 @@ class HokuyoDriver {
   LogHandler log_;
   mutable std::mutex mutex_;
   HokuyoStats stats_;
+  DeviceClock arrivals_;  // the scans' mapped times against their arrivals, for the jitter
   std::string last_error_;
   std::optional<HokuyoInfo> info_;
   int64_t next_seq_ = 0;

@@ -10,11 +10,30 @@
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
 #include "drivers/hokuyo/hokuyo_driver.h"
+#include "drivers/io/driver_status_lcm.h"
+#include "drivers/io/host_clock.h"
 
 namespace aslam {
 namespace {
 
 std::atomic<bool> g_stop{false};
+
+DriverStatus HokuyoDriverStatus(const HokuyoOptions& options, const HokuyoDriver& driver,
+                                int64_t published) {
+  const HokuyoStats s = driver.stats();
+  DriverStatus status;
+  status.utime = HostClockUtime();
+  status.driver = "aslam-hokuyo";
+  status.device = options.device_name();
+  status.connected = s.connected;
+  status.messages = published;
+  status.clock_offset_ms = s.clock_offset_ms;
+  status.clock_jitter_ms = s.clock_jitter_ms;
+  status.errors = s.checksum_errors + s.scans_dropped + s.error_statuses;
+  status.reconnects = static_cast<int>(s.reconnects);
+  status.detail = driver.last_error();
+  return status;
+}
 
 // Applies the flags over the config's options; returns "" or what is wrong with a flag.
 std::string ApplyFlags(const HokuyoProcessOptions& flags, HokuyoOptions* o) {
@@ -93,8 +112,13 @@ int RunHokuyoProcess(const HokuyoProcessOptions& flags) {
   std::thread scanning(
       [&] { driver.Run(g_stop, [&](const LidarScan& scan) { publisher.Publish(scan); }); });
   auto next_status = std::chrono::steady_clock::now();
+  auto next_driver_status = next_status;
   while (!g_stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (std::chrono::steady_clock::now() >= next_driver_status) {
+      next_driver_status += std::chrono::seconds(1);
+      PublishDriverStatus(*lcm, HokuyoDriverStatus(options, driver, publisher.published()));
+    }
     if (flags.status_period_s <= 0 || std::chrono::steady_clock::now() < next_status) continue;
     next_status += std::chrono::milliseconds(static_cast<int>(flags.status_period_s * 1000));
     const HokuyoStats s = driver.stats();

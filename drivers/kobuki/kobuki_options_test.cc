@@ -36,8 +36,7 @@ TEST(KobukiOptions, ErrorsNameTheFileTheKeyAndTheValue) {
   EXPECT_NE(heading.find("kobuki.heading"), std::string::npos) << heading;
   EXPECT_NE(heading.find("compass"), std::string::npos) << heading;
   EXPECT_NE(error_of("kobuki:\n  wheel_radius_m: 0\n").find("wheel_radius_m"), std::string::npos);
-  EXPECT_NE(error_of("kobuki:\n  command_timeout: 1\n").find("command_timeout"),
-            std::string::npos);
+  EXPECT_NE(error_of("kobuki:\n  command_timeout: 1\n").find("command_timeout"), std::string::npos);
   EXPECT_NE(error_of("kobuki:\n  reconnect_backoff_s: [4, 1]\n").find("reconnect_backoff_s"),
             std::string::npos);
   KobukiOptions empty_port;

@@ -641,6 +641,10 @@ void RplidarDriver::Handle(const std::vector<rplidar::ScanSample>& samples,
                             s.packet_size * byte_us - s.samples_after_in_packet * period_us;
     revolution_.push_back(
         {s.angle_cw_deg, s.distance_m, s.slot, static_cast<int64_t>(std::llround(measured))});
+    if (s.samples_after_in_packet == 0) {  // a packet's last sample, timed by its arrival
+      sample_clock_.Map(std::llround(static_cast<double>(s.slot) * period_us),
+                        ArrivalUtime(s.packet_end_offset));
+    }
     if (revolution_.size() > 200000) {  // no start flag for far too long: start over
       revolution_.clear();
       in_revolution_ = false;
@@ -708,7 +712,23 @@ void RplidarDriver::FinishRevolution(std::vector<LidarScan>* scans) {
   }
   scan.utime = first_utime;
   ++stats_.revolutions;
+  revolutions_.Count(HostClockUtime());
   scans->push_back(std::move(scan));
+}
+
+DriverStatus RplidarDriver::driver_status() const {
+  const RplidarStats s = stats();
+  DriverStatus status;
+  status.utime = HostClockUtime();
+  status.driver = "aslam-rplidar";
+  status.device = stream_.name();
+  status.connected = true;
+  status.messages = s.revolutions;
+  status.rate_hz = revolutions_.rate_hz(status.utime);
+  status.clock_offset_ms = sample_clock_.offset_ms();
+  status.clock_jitter_ms = sample_clock_.jitter_ms();
+  status.errors = s.checksum_errors + s.dropped_revolutions;
+  return status;
 }
 
 RplidarStats RplidarDriver::stats() const {
@@ -722,7 +742,8 @@ RplidarStats RplidarDriver::stats() const {
 
 int64_t RunRplidarLoop(const RplidarOptions& options, const std::atomic<bool>& stop,
                        const std::function<void(const LidarScan&)>& on_scan,
-                       const RplidarDriver::Log& log_in, int max_attempts) {
+                       const RplidarDriver::Log& log_in, int max_attempts,
+                       const std::function<void(const DriverStatus&)>& on_status) {
   const RplidarDriver::Log log = log_in ? log_in : [](const std::string& line) {
     std::fprintf(stderr, "%s\n", line.c_str());
     std::fflush(stderr);
@@ -730,7 +751,27 @@ int64_t RunRplidarLoop(const RplidarOptions& options, const std::atomic<bool>& s
   const int baud = ResolvedBaud(options);
   double backoff_s = options.reconnect_backoff_initial_s;
   int failures = 0;
+  int failed_attempts = 0;
   int64_t delivered = 0;
+  int64_t next_status_utime = 0;
+  std::string last_error;
+  // Once a second: the driver's status while connected, else what the loop knows.
+  auto report = [&](const RplidarDriver* driver) {
+    if (!on_status || HostClockUtime() < next_status_utime) return;
+    next_status_utime = HostClockUtime() + 1000000;
+    DriverStatus status;
+    if (driver != nullptr) {
+      status = driver->driver_status();
+    } else {
+      status.utime = HostClockUtime();
+      status.driver = "aslam-rplidar";
+      status.device = options.port;
+    }
+    status.messages = delivered;
+    status.reconnects = failed_attempts;
+    if (driver == nullptr) status.detail = last_error;
+    on_status(status);
+  };
   while (!stop) {
     try {
       SerialPort port(options.port, baud);
@@ -747,11 +788,14 @@ int64_t RunRplidarLoop(const RplidarOptions& options, const std::atomic<bool>& s
           on_scan(scan);
           ++delivered;
         }
+        report(&driver);
       }
       driver.Stop();
       return delivered;
     } catch (const DeviceError& e) {
       ++failures;
+      ++failed_attempts;
+      last_error = e.what();
       char line[128];
       std::snprintf(line, sizeof(line), "; attempt %d failed, retrying in %.2f s", failures,
                     backoff_s);
@@ -764,7 +808,10 @@ int64_t RunRplidarLoop(const RplidarOptions& options, const std::atomic<bool>& s
     }
     // Sleep the backoff in small steps so a stop request is honoured promptly.
     const int64_t wake = HostClockUtime() + static_cast<int64_t>(backoff_s * 1e6);
-    while (!stop && HostClockUtime() < wake) SleepS(0.02);
+    while (!stop && HostClockUtime() < wake) {
+      report(nullptr);
+      SleepS(0.02);
+    }
     backoff_s = std::min(backoff_s * 2.0, options.reconnect_backoff_max_s);
   }
   return delivered;

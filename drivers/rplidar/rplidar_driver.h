@@ -16,6 +16,8 @@
 #include "common/pose2d.h"
 #include "common/sensor_types.h"
 #include "drivers/io/byte_stream.h"
+#include "drivers/io/device_clock.h"
+#include "drivers/io/driver_status.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 
 namespace aslam {
@@ -98,6 +100,8 @@ class RplidarDriver {
 
   const RplidarConnection& connection() const { return connection_; }
   RplidarStats stats() const;
+  // DRIVER_STATUS: the lidar's sample clock (samples x sample period) against the host's.
+  DriverStatus driver_status() const;
 
  private:
   struct RevolutionSample {
@@ -154,6 +158,8 @@ class RplidarDriver {
   int64_t last_sample_utime_ = 0;
   int64_t seq_ = 0;
   RplidarStats stats_;
+  DeviceClock sample_clock_;
+  RateCounter revolutions_;
   int64_t parser_checksum_errors_base_ = 0;
   int64_t parser_discarded_base_ = 0;
 };
@@ -163,8 +169,11 @@ class RplidarDriver {
 // port and retries with exponential backoff, logging each attempt once. Returns after
 // `max_attempts` failed attempts in a row (0 = never gives up) or when `stop` is set;
 // returns the number of revolutions delivered.
+// on_status, when given, gets the driver's DRIVER_STATUS about once a second, connected or
+// not (reconnects counts the failed attempts).
 int64_t RunRplidarLoop(const RplidarOptions& options, const std::atomic<bool>& stop,
                        const std::function<void(const LidarScan&)>& on_scan,
-                       const RplidarDriver::Log& log = {}, int max_attempts = 0);
+                       const RplidarDriver::Log& log = {}, int max_attempts = 0,
+                       const std::function<void(const DriverStatus&)>& on_status = {});
 
 }  // namespace aslam

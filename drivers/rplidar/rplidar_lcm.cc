@@ -8,6 +8,7 @@
 #include "common/config.h"
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
+#include "drivers/io/driver_status_lcm.h"
 
 namespace aslam {
 namespace {
@@ -47,7 +48,7 @@ int RunRplidarProcess(const RplidarProcessOptions& p) {
     const int64_t published = RunRplidarLoop(
         options, g_stop,
         [&lcm](const LidarScan& scan) { PublishLidarScan(*lcm, channels::kLidarScan, scan); }, {},
-        p.attempts);
+        p.attempts, [&lcm](const DriverStatus& status) { PublishDriverStatus(*lcm, status); });
     std::printf("aslam-rplidar: stopped after %lld scans\n", static_cast<long long>(published));
     return g_stop ? 0 : 1;
   } catch (const std::exception& e) {

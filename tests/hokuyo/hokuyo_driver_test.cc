@@ -400,6 +400,7 @@ TEST(HokuyoSerialTest, TimeSyncMapsSensorTimeToHostTime) {
   o.port = emulator->device_path();
   RunningDriver running(o);
   ASSERT_TRUE(running.WaitForScans(8));
+  const HokuyoStats scanning = running.driver().stats();
   running.Stop();
   const auto sent = emulator->sent_scans();
   for (const LidarScan& scan : running.scans()) {
@@ -408,6 +409,14 @@ TEST(HokuyoSerialTest, TimeSyncMapsSensorTimeToHostTime) {
     // 1 ms timestamp resolution plus the round-trip asymmetry of the best TM1.
     EXPECT_LE(std::llabs(match->beam0_host_utime - scan.utime), 4000) << "seq " << scan.seq;
   }
+  // DRIVER_STATUS's figures: the offset is host minus sensor time, the jitter the arrivals'.
+  EXPECT_TRUE(scanning.connected);
+  EXPECT_FALSE(running.driver().stats().connected);
+  const EmulatedScan& first = sent.front();
+  EXPECT_NEAR(scanning.clock_offset_ms,
+              first.beam0_host_utime * 1e-3 - static_cast<double>(first.timestamp_ms), 4.0);
+  EXPECT_GT(scanning.clock_jitter_ms, 0.0);
+  EXPECT_LT(scanning.clock_jitter_ms, 10.0);
 }
 
 TEST(HokuyoTcpTest, TimestampWrapAt24BitsKeepsTimeMonotonic) {

@@ -166,6 +166,26 @@ TEST(RplidarDriver, StandardScanSendsTheDocumentedBytesAndMakesRevolutions) {
   EXPECT_EQ(rig.driver.stats().checksum_errors, 0);
 }
 
+TEST(RplidarDriver, DriverStatusReportsRateAndTheSampleClocksJitter) {
+  RplidarEmulatorOptions device = RplidarEmulatorModel("a2");
+  device.range_m = Smooth;
+  Rig rig(device, "express");
+  rig.driver.Start();
+  const std::vector<LidarScan> scans = rig.Collect(25);  // 2.5 s at 10 Hz
+  ASSERT_EQ(scans.size(), 25u);
+  const DriverStatus status = rig.driver.driver_status();
+  EXPECT_EQ(status.driver, "aslam-rplidar");
+  EXPECT_EQ(status.device, rig.emulator.link_path());
+  EXPECT_TRUE(status.connected);
+  EXPECT_EQ(status.messages, rig.driver.stats().revolutions);
+  EXPECT_NEAR(status.rate_hz, 10.0, 1.5);
+  // The samples' own clock maps onto the host's within a few milliseconds: what a pseudo-
+  // terminal and a loaded machine add. A wrong sample period would drift by 10 % (25 ms/rev).
+  EXPECT_GE(status.clock_jitter_ms, 0.0);
+  EXPECT_LT(status.clock_jitter_ms, 5.0);
+  EXPECT_EQ(status.errors, 0);
+}
+
 TEST(RplidarDriver, LegacyExpressScanUndoesTheAngleCompensation) {
   RplidarEmulatorOptions device = RplidarEmulatorModel("a1");
   device.range_m = Wavy;
