@@ -11,10 +11,10 @@
 #include <mutex>
 #include <thread>
 
+#include "drivers/emulators/kobuki_emulator.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
 #include "drivers/kobuki/kobuki_driver.h"
-#include "drivers/emulators/kobuki_emulator.h"
 
 namespace aslam {
 namespace {
