@@ -11,19 +11,7 @@ fi
 
 url="udpm://239.255.76.67:$((port_base + $$ % 100))?ttl=0"
 monitor="$build/tools/aslam-monitor"
-failures=0
-passes=0
-check() {  # check NAME COMMAND...: runs the command, counts a pass or a failure
-  local name="$1"
-  shift
-  if "$@"; then
-    echo "ok: $name"
-    passes=$((passes + 1))
-  else
-    echo "FAILED: $name"
-    failures=$((failures + 1))
-  fi
-}
+source "$src/tests/check_lib.sh"
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

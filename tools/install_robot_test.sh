@@ -12,19 +12,7 @@ src="$1"
 install="$src/scripts/install-robot"
 unit="$src/config/systemd/aslam-deputy.service"
 
-failures=0
-passes=0
-check() {  # check NAME COMMAND...: runs the command, counts a pass or a failure
-  local name="$1"
-  shift
-  if "$@"; then
-    echo "ok: $name"
-    passes=$((passes + 1))
-  else
-    echo "FAILED: $name"
-    failures=$((failures + 1))
-  fi
-}
+source "$src/tests/check_lib.sh"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 

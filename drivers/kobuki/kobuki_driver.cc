@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "common/robot_config.h"
+#include "drivers/io/backoff_config.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
 
@@ -48,16 +49,7 @@ KobukiOptions LoadKobukiOptions(const ConfigReader& c) {
   c.ReadInRange("command_timeout_s", &o.safety.command_timeout_s, 0.02, 10.0);
   c.ReadInRange("status_rate_hz", &o.status_rate_hz, 0.1, 50.0);
   c.ReadInRange("response_timeout_s", &o.response_timeout_s, 0.05, 30.0);
-  if (c.Has("reconnect_backoff_s")) {
-    std::vector<double> backoff;
-    c.Read("reconnect_backoff_s", &backoff);
-    if (backoff.size() != 2 || !(backoff[0] > 0) || backoff[1] < backoff[0] || backoff[1] > 3600) {
-      c.Fail("reconnect_backoff_s",
-             "must be [INITIAL_S, MAX_S] with 0 < INITIAL_S <= MAX_S <= 3600");
-    }
-    o.reconnect_backoff_initial_s = backoff[0];
-    o.reconnect_backoff_max_s = backoff[1];
-  }
+  ReadReconnectBackoff(c, &o.reconnect_backoff_initial_s, &o.reconnect_backoff_max_s);
   c.CheckAllKeysUsed();
   return o;
 }

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "common/robot_config.h"
+#include "drivers/io/backoff_config.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
 
@@ -113,16 +114,7 @@ RplidarOptions LoadRplidarOptions(const ConfigReader& c) {
     c.Fail("range_min_m", "must be below range_max_m");
   }
   c.ReadInRange("motor_rpm", &o.motor_rpm, 0, 3000);
-  if (c.Has("reconnect_backoff_s")) {
-    std::vector<double> backoff;
-    c.Read("reconnect_backoff_s", &backoff);
-    if (backoff.size() != 2 || !(backoff[0] > 0) || backoff[1] < backoff[0] || backoff[1] > 3600) {
-      c.Fail("reconnect_backoff_s",
-             "must be [INITIAL_S, MAX_S] with 0 < INITIAL_S <= MAX_S <= 3600");
-    }
-    o.reconnect_backoff_initial_s = backoff[0];
-    o.reconnect_backoff_max_s = backoff[1];
-  }
+  ReadReconnectBackoff(c, &o.reconnect_backoff_initial_s, &o.reconnect_backoff_max_s);
   c.ReadInRange("reset_wait_s", &o.reset_wait_s, 0.0, 30.0);
   c.ReadInRange("response_timeout_s", &o.response_timeout_s, 0.01, 30.0);
   c.ReadInRange("stall_timeout_s", &o.stall_timeout_s, 0.05, 60.0);

@@ -16,6 +16,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -351,6 +352,9 @@ TEST(KobukiEmulator, OnlyBasicAndInertialWhenOtherSubPayloadsAreOff) {
 struct MotionCase {
   int speed, radius;
 };
+void PrintTo(const MotionCase& c, std::ostream* os) {
+  *os << "speed " << c.speed << " mm/s, radius " << c.radius << " mm";
+}
 
 class KobukiEmulatorMotion : public ::testing::TestWithParam<MotionCase> {};
 
@@ -416,11 +420,15 @@ TEST_P(KobukiEmulatorMotion, BaseControlDrivesWheelsEncodersGyroAndTruth) {
   EXPECT_LT(truth.yaw_rad, M_PI);
 }
 
-INSTANTIATE_TEST_SUITE_P(SpecTable, KobukiEmulatorMotion,
-                         ::testing::Values(MotionCase{200, 0}, MotionCase{-150, 0},
-                                           MotionCase{100, 1}, MotionCase{-100, 1},
-                                           MotionCase{100, -1}, MotionCase{200, 500},
-                                           MotionCase{200, -500}, MotionCase{-200, 300}));
+INSTANTIATE_TEST_SUITE_P(
+    SpecTable, KobukiEmulatorMotion,
+    ::testing::Values(MotionCase{200, 0}, MotionCase{-150, 0}, MotionCase{100, 1},
+                      MotionCase{-100, 1}, MotionCase{100, -1}, MotionCase{200, 500},
+                      MotionCase{200, -500}, MotionCase{-200, 300}),
+    [](const ::testing::TestParamInfo<MotionCase>& info) {
+      auto signed_name = [](int v) { return (v < 0 ? "minus" : "") + std::to_string(std::abs(v)); };
+      return "speed_" + signed_name(info.param.speed) + "_radius_" + signed_name(info.param.radius);
+    });
 
 TEST(KobukiEmulator, ArcCentreLiesOnTheLeftForPositiveRadius) {
   KobukiEmulator emulator(Fast());
