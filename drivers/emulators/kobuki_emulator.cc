@@ -110,24 +110,17 @@ double WrapDeg(double deg) {  // to [-180, 180)
 
 }  // namespace
 
-KobukiEmulator::KobukiEmulator(KobukiEmulatorOptions options) : options_(options) {
+KobukiEmulator::KobukiEmulator(KobukiEmulatorOptions options)
+    : options_(std::move(options)), link_(options_.link_path, "kobuki") {
   if (!(options_.feedback_period_s > 0.0) || !(options_.time_scale > 0.0)) {
     throw std::invalid_argument("KobukiEmulator: feedback_period_s and time_scale must be > 0");
-  }
-  if (options_.link_path.empty()) {
-    char dir[] = "/tmp/kobuki_emulator_XXXXXX";
-    if (!::mkdtemp(dir)) throw std::runtime_error("mkdtemp failed");
-    dir_ = dir;
-    link_path_ = dir_ + "/kobuki";
-  } else {
-    link_path_ = options_.link_path;
   }
   left_encoder_ = options_.initial_left_encoder;
   right_encoder_ = options_.initial_right_encoder;
   battery_v_ = options_.battery_v;
   charger_ = options_.charger;
   pty_ = std::make_unique<PseudoTerminal>();
-  PointLink();
+  link_.PointAt(pty_->slave_path());
   start_real_s_ = NowS();
   thread_ = std::thread([this] { Run(); });
 }
@@ -135,18 +128,6 @@ KobukiEmulator::KobukiEmulator(KobukiEmulatorOptions options) : options_(options
 KobukiEmulator::~KobukiEmulator() {
   running_ = false;
   thread_.join();
-  ::unlink(link_path_.c_str());
-  if (!dir_.empty()) ::rmdir(dir_.c_str());
-}
-
-void KobukiEmulator::PointLink() {
-  // A new link beside the old one, renamed over it: the path never dangles half-made.
-  const std::string temporary = link_path_ + ".new";
-  ::unlink(temporary.c_str());
-  if (::symlink(pty_->slave_path().c_str(), temporary.c_str()) != 0 ||
-      ::rename(temporary.c_str(), link_path_.c_str()) != 0) {
-    throw std::runtime_error("cannot point " + link_path_ + " at " + pty_->slave_path());
-  }
 }
 
 void KobukiEmulator::SetBumper(uint8_t flags) {
@@ -211,7 +192,7 @@ void KobukiEmulator::Unplug() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (pty_) pty_->Close();
   pty_.reset();
-  ::unlink(link_path_.c_str());
+  link_.Remove();
   input_.clear();
   split_tail_.clear();
 }
@@ -219,7 +200,7 @@ void KobukiEmulator::Unplug() {
 void KobukiEmulator::Replug() {
   std::lock_guard<std::mutex> lock(mutex_);
   pty_ = std::make_unique<PseudoTerminal>();
-  PointLink();
+  link_.PointAt(pty_->slave_path());
   input_.clear();
   split_tail_.clear();
 }

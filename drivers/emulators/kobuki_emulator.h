@@ -77,7 +77,7 @@ class KobukiEmulator {
   KobukiEmulator& operator=(const KobukiEmulator&) = delete;
 
   // The symlink to give the driver (absent while unplugged).
-  const std::string& link_path() const { return link_path_; }
+  const std::string& link_path() const { return link_.path(); }
 
   // Injections, taking effect in the emulator's thread from the next feedback packet.
   void SetBumper(uint8_t flags);     // 0x01 right, 0x02 central, 0x04 left
@@ -110,7 +110,6 @@ class KobukiEmulator {
 
  private:
   void Run();
-  void PointLink();
   // Writes to the master end (garbled first when wrong_baud); what does not fit is lost.
   void Send(std::vector<uint8_t> bytes);
   void HandleInput(const std::vector<uint8_t>& bytes);
@@ -125,8 +124,7 @@ class KobukiEmulator {
   double EmulatedNow() const;
 
   KobukiEmulatorOptions options_;
-  std::string dir_;
-  std::string link_path_;
+  DeviceLink link_;
   mutable std::mutex mutex_;
   std::unique_ptr<PseudoTerminal> pty_;
   double start_real_s_ = 0.0;

@@ -139,35 +139,16 @@ RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
   throw std::invalid_argument("RplidarEmulatorModel: unknown model " + name);
 }
 
-RplidarEmulator::RplidarEmulator(RplidarEmulatorOptions options) : options_(std::move(options)) {
-  if (options_.link_path.empty()) {
-    char dir[] = "/tmp/rplidar_emulator_XXXXXX";
-    if (!::mkdtemp(dir)) throw std::runtime_error("mkdtemp failed");
-    dir_ = dir;
-    link_path_ = dir_ + "/rplidar";
-  } else {
-    link_path_ = options_.link_path;
-  }
+RplidarEmulator::RplidarEmulator(RplidarEmulatorOptions options)
+    : options_(std::move(options)), link_(options_.link_path, "rplidar") {
   pty_ = std::make_unique<PseudoTerminal>();
-  PointLink();
+  link_.PointAt(pty_->slave_path());
   thread_ = std::thread([this] { Run(); });
 }
 
 RplidarEmulator::~RplidarEmulator() {
   running_ = false;
   thread_.join();
-  ::unlink(link_path_.c_str());
-  if (!dir_.empty()) ::rmdir(dir_.c_str());
-}
-
-void RplidarEmulator::PointLink() {
-  // A new link beside the old one, renamed over it: the path never dangles half-made.
-  const std::string temporary = link_path_ + ".new";
-  ::unlink(temporary.c_str());
-  if (::symlink(pty_->slave_path().c_str(), temporary.c_str()) != 0 ||
-      ::rename(temporary.c_str(), link_path_.c_str()) != 0) {
-    throw std::runtime_error("cannot point " + link_path_ + " at " + pty_->slave_path());
-  }
 }
 
 void RplidarEmulator::InjectGarbage(const std::vector<uint8_t>& bytes) {
@@ -196,7 +177,7 @@ void RplidarEmulator::Unplug() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (pty_) pty_->Close();
   pty_.reset();
-  ::unlink(link_path_.c_str());
+  link_.Remove();
   stream_ = Stream::kNone;
   input_.clear();
 }
@@ -204,7 +185,7 @@ void RplidarEmulator::Unplug() {
 void RplidarEmulator::Replug() {
   std::lock_guard<std::mutex> lock(mutex_);
   pty_ = std::make_unique<PseudoTerminal>();
-  PointLink();
+  link_.PointAt(pty_->slave_path());
   stream_ = Stream::kNone;
   deaf_until_s_ = 0.0;
 }

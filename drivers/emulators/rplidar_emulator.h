@@ -79,7 +79,7 @@ class RplidarEmulator {
   RplidarEmulator& operator=(const RplidarEmulator&) = delete;
 
   // The symlink to give the driver (absent while unplugged).
-  const std::string& link_path() const { return link_path_; }
+  const std::string& link_path() const { return link_.path(); }
 
   // Injections, taking effect in the emulator's thread.
   void InjectGarbage(const std::vector<uint8_t>& bytes);
@@ -100,7 +100,6 @@ class RplidarEmulator {
  private:
   enum class Stream { kNone, kStandard, kLegacy, kDense, kUltra };
   void Run();
-  void PointLink();
   void Send(const std::vector<uint8_t>& bytes);
   void HandleInput(const std::vector<uint8_t>& bytes);
   void HandleRequest(uint8_t command, const std::vector<uint8_t>& payload);
@@ -119,8 +118,7 @@ class RplidarEmulator {
   uint32_t UltraSampleMm(int64_t capsule, int sample) const;
 
   RplidarEmulatorOptions options_;
-  std::string dir_;
-  std::string link_path_;
+  DeviceLink link_;
   mutable std::mutex mutex_;
   std::unique_ptr<PseudoTerminal> pty_;
   std::vector<uint8_t> input_;  // request bytes not yet complete

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -61,5 +62,30 @@ void PseudoTerminal::Close() {
   if (master_fd_ >= 0) ::close(master_fd_);
   slave_fd_ = master_fd_ = -1;
 }
+
+DeviceLink::DeviceLink(const std::string& path, const std::string& name) : path_(path) {
+  if (!path_.empty()) return;
+  std::string dir = "/tmp/" + name + "_emulator_XXXXXX";
+  if (!::mkdtemp(dir.data()))
+    throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
+  dir_ = dir;
+  path_ = dir_ + "/" + name;
+}
+
+DeviceLink::~DeviceLink() {
+  Remove();
+  if (!dir_.empty()) ::rmdir(dir_.c_str());
+}
+
+void DeviceLink::PointAt(const std::string& target) {
+  const std::string temporary = path_ + ".new";
+  ::unlink(temporary.c_str());
+  if (::symlink(target.c_str(), temporary.c_str()) != 0 ||
+      ::rename(temporary.c_str(), path_.c_str()) != 0) {
+    throw std::runtime_error("cannot point " + path_ + " at " + target);
+  }
+}
+
+void DeviceLink::Remove() { ::unlink(path_.c_str()); }
 
 }  // namespace aslam

@@ -36,4 +36,25 @@ class PseudoTerminal {
   std::string slave_path_;
 };
 
+// A stable path to a pseudo-terminal, as udev's /dev/kobuki or /dev/serial/by-id links are:
+// re-pointed at once on a replug (a new link renamed over the old, so it never dangles
+// half-made), removed on an unplug and with this object.
+class DeviceLink {
+ public:
+  // `path` "" = NAME in a temporary folder of its own, removed with it.
+  DeviceLink(const std::string& path, const std::string& name);
+  ~DeviceLink();
+  DeviceLink(const DeviceLink&) = delete;
+  DeviceLink& operator=(const DeviceLink&) = delete;
+
+  const std::string& path() const { return path_; }
+  // Throws std::runtime_error naming the link if it cannot be made.
+  void PointAt(const std::string& target);
+  void Remove();
+
+ private:
+  std::string dir_;  // the temporary folder, when this made one
+  std::string path_;
+};
+
 }  // namespace aslam
