@@ -830,8 +830,13 @@ TEST(KobukiEmulator, SilentStopsFeedbackAndTimeGoesOn) {
   std::optional<Packet> before = port.NextGood();
   ASSERT_TRUE(before);
   emulator.SetSilent(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  port.Drain();
+  // Settle: the emulator's thread takes the order at its next turn, which a loaded machine
+  // may delay; a packet already on its way is drained, not counted against the silence.
+  for (int64_t last = -1; last != emulator.feedback_sent();) {
+    last = emulator.feedback_sent();
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    port.Drain();
+  }
   EXPECT_FALSE(port.ReadSome(0.1));
   const int64_t sent = emulator.feedback_sent();
   emulator.SetSilent(false);
