@@ -11,12 +11,12 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "drivers/io/host_clock.h"
+
 namespace aslam {
 namespace {
 
-double NowS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double NowS() { return HostClockUtime() * 1e-6; }
 
 void PutU16(std::vector<uint8_t>* bytes, unsigned value) {
   bytes->push_back(static_cast<uint8_t>(value & 0xFF));
@@ -115,6 +115,7 @@ RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
     o.standard_sample_us = 250;  // 4 k samples/s
     o.express_sample_us = 126;   // 7.9 k samples/s
     o.rotation_hz = 10.0;
+    o.baud = 256000;
     o.boot_banner = "RP LIDAR System.\r\nFirmware Ver 1.26 - rtm, HW Ver 6\r\nModel: 31\r\n";
     // An A3M1's list: 4 k Standard, 8 k Express, 16 k Boost and Sensitivity, 10 k Stability.
     o.scan_modes = {{"Standard", 250.0, 16.0, 0x81},
@@ -133,6 +134,7 @@ RplidarEmulatorOptions RplidarEmulatorModel(const std::string& name) {
     o.express_sample_us = name == "s1" ? 108 : 31;  // DenseBoost: 9.2 k / 32 k samples/s
     o.dense_express = true;
     o.rotation_hz = 10.0;
+    o.baud = name == "s1" ? 256000 : 1000000;
     o.boot_banner.clear();  // S-series say nothing after a reset
     return o;
   }
@@ -429,8 +431,13 @@ void RplidarEmulator::StartStream(Stream stream, double sample_us) {
   stream_ = stream;
   stream_period_s_ = sample_us * 1e-6;
   stream_start_s_ = NowS();
+  wire_free_s_ = stream_start_s_;
   next_packet_ = 0;
   Send(options_.garbage_before_first_packet);
+}
+
+int64_t RplidarEmulator::SampleUtime(int64_t sample) const {
+  return std::llround((stream_start_s_ + sample * stream_period_s_ / options_.time_scale) * 1e6);
 }
 
 double RplidarEmulator::AngleAtSampleDeg(int64_t sample) const {
@@ -439,15 +446,19 @@ double RplidarEmulator::AngleAtSampleDeg(int64_t sample) const {
 }
 
 void RplidarEmulator::StreamDue() {
-  int per_packet = 1;
-  if (stream_ == Stream::kLegacy) per_packet = 32;
-  if (stream_ == Stream::kDense) per_packet = 40;
-  if (stream_ == Stream::kUltra) per_packet = 96;  // 32 cabins of 3 samples
-  const double emulated_s = (NowS() - stream_start_s_) * options_.time_scale;
-  const auto measured = static_cast<int64_t>(emulated_s / stream_period_s_);
-  // A packet leaves once all of its samples are measured.
+  int per_packet = 1, packet_bytes = 5;  // standard: a 5-byte node per sample
+  if (stream_ == Stream::kLegacy) per_packet = 32, packet_bytes = 84;  // 16 cabins of 5 bytes
+  if (stream_ == Stream::kDense) per_packet = 40, packet_bytes = 84;   // 40 distances of 2
+  if (stream_ == Stream::kUltra) per_packet = 96, packet_bytes = 132;  // 32 cabins of 4
+  const double byte_s = 10.0 / options_.baud;                          // 8N1
+  const double now_s = NowS();
+  // A packet goes out once its last sample is measured and the one before it has left; the
+  // driver has it when its last byte has crossed the wire.
   std::vector<uint8_t> out;
-  while ((next_packet_ + 1) * per_packet <= measured && out.size() < 16384) {
+  while (out.size() < 16384) {
+    const double last_sample_s = SampleUtime((next_packet_ + 1) * per_packet - 1) * 1e-6;
+    const double arrives_s = std::max(last_sample_s, wire_free_s_) + packet_bytes * byte_s;
+    if (arrives_s > now_s) break;
     std::vector<uint8_t> packet;
     if (stream_ == Stream::kStandard) {
       packet = StandardNode(next_packet_);
@@ -457,6 +468,7 @@ void RplidarEmulator::StreamDue() {
       packet = CapsuleAt(next_packet_);
     }
     out.insert(out.end(), packet.begin(), packet.end());
+    wire_free_s_ = arrives_s;
     ++next_packet_;
     ++packets_sent_;
   }
@@ -468,7 +480,7 @@ std::vector<uint8_t> RplidarEmulator::StandardNode(int64_t sample) {
   const int angle_q6 = static_cast<int>(std::lround(AngleAtSampleDeg(sample) * 64.0)) % (360 * 64);
   const bool start =
       sample > 0 && AngleAtSampleDeg(sample) < AngleAtSampleDeg(sample - 1);  // passed 0 deg
-  const double range_m = options_.range_m(angle_q6 / 64.0 * M_PI / 180.0);
+  const double range_m = options_.range_m(angle_q6 / 64.0 * M_PI / 180.0, SampleUtime(sample));
   long distance_q2 = std::lround(range_m * 4000.0);
   if (distance_q2 < 0 || distance_q2 > 0xFFFF) distance_q2 = 0;
   const uint8_t quality = distance_q2 > 0 ? 47 : 0;
@@ -500,7 +512,8 @@ std::vector<uint8_t> RplidarEmulator::CapsuleAt(int64_t capsule) {
     const int compensation_q3 = dense ? 0 : CompensationQ3(first + k);
     // theta_k = omega_i + AngleDiff / n * k - dtheta_k: the angle the sample was taken at.
     const double angle_deg = std::fmod(raw_deg - compensation_q3 / 8.0 + 360.0, 360.0);
-    const long mm = std::lround(options_.range_m(angle_deg * M_PI / 180.0) * 1000.0);
+    const long mm =
+        std::lround(options_.range_m(angle_deg * M_PI / 180.0, SampleUtime(first + k)) * 1000.0);
     const long limit_mm = dense ? 0xFFFF : 0x3FFF;  // dense: 16 bits; legacy: 14 bits
     distance_mm[k] = mm < 0 || mm > limit_mm ? 0u : static_cast<unsigned>(mm);
     compensation_six[k] = (compensation_q3 < 0 ? 0x20u : 0u) |
@@ -549,7 +562,8 @@ uint32_t RplidarEmulator::UltraSampleMm(int64_t capsule, int sample) const {
   double offset_deg = 8.0;
   for (int i = 0; i < 4; ++i) {
     const double angle_deg = std::fmod(raw_deg - offset_deg + 720.0, 360.0);
-    mm = std::lround(options_.range_m(angle_deg * M_PI / 180.0) * 1000.0);
+    mm = std::lround(
+        options_.range_m(angle_deg * M_PI / 180.0, SampleUtime(capsule * 96 + sample)) * 1000.0);
     if (mm <= 0 || mm > static_cast<long>(kUltraMaxMm)) return 0;
     offset_deg = UltraOffsetDeg(static_cast<uint32_t>(mm));
   }

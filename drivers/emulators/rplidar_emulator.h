@@ -50,15 +50,19 @@ struct RplidarEmulatorOptions {
   std::vector<RplidarEmulatorScanMode> scan_modes;
   uint16_t typical_scan_mode = 0;
   bool lidar_conf_error = false;  // GET_LIDAR_CONF answers echo the wrong type, no value
+  uint32_t baud = 115200;  // the link's rate: a packet arrives its transfer time after it leaves
   double rotation_hz = 5.5;
   double start_angle_deg = 123.0;  // where the rotor points when a scan starts
   double time_scale = 1.0;         // emulated seconds per real second
   double boot_time_s = 0.05;       // after RESET, deaf for this long (real seconds)
   std::string boot_banner =
       "RP LIDAR System.\r\nFirmware Ver 1.29 - rc9, HW Ver 7\r\nModel: 18\r\n";
-  // Distance seen at an angle (radians clockwise from the front, as the device measures).
-  // 0 or beyond the packet format's reach = no return.
-  std::function<double(double angle_cw_rad)> range_m = [](double) { return 2.0; };
+  // Distance seen at an angle (radians clockwise from the front, as the device measures) at
+  // the instant the sample is measured (host clock, drivers/io/host_clock.h), which is before
+  // the packet carrying it leaves. 0 or beyond the packet format's reach = no return.
+  std::function<double(double angle_cw_rad, int64_t measured_utime)> range_m = [](double, int64_t) {
+    return 2.0;
+  };
   // Every answer arrives garbled, as at a wrong baud rate.
   bool wrong_baud = false;
   uint8_t health_status = 0;  // 0 good, 1 warning, 2 error
@@ -108,6 +112,8 @@ class RplidarEmulator {
   void AnswerLidarConf(const std::vector<uint8_t>& payload);
   void StreamDue();
   double AngleAtSampleDeg(int64_t sample) const;
+  // When `sample` of the current stream is measured, host clock.
+  int64_t SampleUtime(int64_t sample) const;
   std::vector<uint8_t> StandardNode(int64_t sample);
   std::vector<uint8_t> CapsuleAt(int64_t capsule);
   std::vector<uint8_t> UltraCapsuleAt(int64_t capsule);
@@ -129,8 +135,9 @@ class RplidarEmulator {
   bool reset_requested_ = false;
   double deaf_until_s_ = 0.0;
   Stream stream_ = Stream::kNone;
-  double stream_start_s_ = 0.0;   // real time the stream started
+  double stream_start_s_ = 0.0;   // host time the stream started
   double stream_period_s_ = 0.0;  // emulated seconds per sample
+  double wire_free_s_ = 0.0;      // host time the last packet sent has arrived
   int64_t next_packet_ = 0;
   uint32_t noise_state_ = 12345;
   std::atomic<int> scans_started_{0};
