@@ -1,7 +1,9 @@
 #include "drivers/sim/sim_devices.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <stdexcept>
 
 #include "drivers/emulators/kobuki_emulator.h"
@@ -14,7 +16,8 @@ SimDevices::SimDevices(const Simulator& simulator, const SimDevicesOptions& opti
   std::error_code error;
   std::filesystem::create_directories(options_.dir, error);
   if (error) throw std::runtime_error("cannot create " + options_.dir + ": " + error.message());
-  lidar_in_world_ = simulator_.true_pose().Compose(simulator_.options().robot.lidar_mount);
+  lidar_in_world_.push_back(  // until the first step: the start, at any time
+      {INT64_MIN, simulator_.true_pose().Compose(simulator_.options().robot.lidar_mount)});
 
   KobukiEmulatorOptions base;
   base.link_path = options_.dir + "/kobuki";
@@ -24,7 +27,9 @@ SimDevices::SimDevices(const Simulator& simulator, const SimDevicesOptions& opti
 
   RplidarEmulatorOptions lidar = RplidarEmulatorModel(options_.rplidar_model);
   lidar.link_path = options_.dir + "/rplidar";
-  lidar.range_m = [this](double angle_cw_rad) { return RangeAt(angle_cw_rad); };
+  lidar.range_m = [this](double angle_cw_rad, int64_t measured_utime) {
+    return RangeAt(angle_cw_rad, measured_utime);
+  };
   rplidar_ = std::make_unique<RplidarEmulator>(lidar);
 }
 
@@ -43,10 +48,16 @@ VelocityCommand SimDevices::Command(int64_t sim_utime) const {
   return command;
 }
 
-void SimDevices::AfterStep(const SimStepOutput& out) {
+void SimDevices::AfterStep(const SimStepOutput& out, int64_t host_utime) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    lidar_in_world_ = simulator_.true_pose().Compose(simulator_.options().robot.lidar_mount);
+    if (lidar_in_world_.front().first == INT64_MIN) lidar_in_world_.clear();
+    lidar_in_world_.push_back(
+        {host_utime, simulator_.true_pose().Compose(simulator_.options().robot.lidar_mount)});
+    // A second of steps: the lidar's thread asks for instants a few milliseconds back.
+    while (lidar_in_world_.size() > 2 && lidar_in_world_.front().first < host_utime - 1000000) {
+      lidar_in_world_.pop_front();
+    }
   }
   if (out.odometry) {
     const double v = out.odometry->linear_velocity_mps;
@@ -55,12 +66,30 @@ void SimDevices::AfterStep(const SimStepOutput& out) {
   }
 }
 
-double SimDevices::RangeAt(double angle_cw_rad) {
+Pose2d SimDevices::LidarInWorldAt(int64_t host_utime) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return LidarInWorldAtLocked(host_utime);
+}
+
+Pose2d SimDevices::LidarInWorldAtLocked(int64_t host_utime) const {
+  const auto after = std::upper_bound(
+      lidar_in_world_.begin(), lidar_in_world_.end(), host_utime,
+      [](int64_t utime, const std::pair<int64_t, Pose2d>& step) { return utime < step.first; });
+  if (after == lidar_in_world_.begin()) return after->second;
+  if (after == lidar_in_world_.end()) return lidar_in_world_.back().second;
+  const auto& [before_utime, before] = *std::prev(after);
+  const double fraction = static_cast<double>(host_utime - before_utime) /
+                          static_cast<double>(after->first - before_utime);
+  return Interpolate(before, after->second, fraction);
+}
+
+double SimDevices::RangeAt(double angle_cw_rad, int64_t measured_utime) {
   std::lock_guard<std::mutex> lock(mutex_);
   const LidarOptions& lidar = simulator_.options().lidar;
+  const Pose2d lidar_in_world = LidarInWorldAtLocked(measured_utime);
   const double range_m =
-      simulator_.world().CastRay({lidar_in_world_.x_m, lidar_in_world_.y_m},
-                                 lidar_in_world_.yaw_rad - angle_cw_rad, lidar.range_max_m);
+      simulator_.world().CastRay({lidar_in_world.x_m, lidar_in_world.y_m},
+                                 lidar_in_world.yaw_rad - angle_cw_rad, lidar.range_max_m);
   if (!std::isfinite(range_m)) return 0.0;  // no return
   std::normal_distribution<double> noise(0.0, options_.range_noise_sigma_m);
   return std::max(range_m + noise(rng_), 0.0);

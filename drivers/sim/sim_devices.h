@@ -6,10 +6,12 @@
 // exactly as on a robot. The emulators are the drivers' test devices (drivers/emulators/).
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "common/pose2d.h"
 #include "common/sensor_types.h"
@@ -37,23 +39,31 @@ class SimDevices {
 
   // What the base's driver last told it, as a command for the simulated base.
   VelocityCommand Command(int64_t sim_utime) const;
-  // After each physics step: the emulated wheels turn as the simulator's (noisy) odometry
-  // measured, and the lidar looks from the true pose.
-  void AfterStep(const SimStepOutput& out);
+  // After each physics step, which brings the simulation to `host_utime` on the host's
+  // clock: the emulated wheels turn as the simulator's (noisy) odometry measured over the
+  // step, and the lidar looks from the true pose along it.
+  void AfterStep(const SimStepOutput& out, int64_t host_utime);
 
   std::string kobuki_port() const;
   std::string rplidar_port() const;
 
+  // The lidar's true pose at a host time, interpolated between the steps around it (held
+  // at the ends: before the first step, or when the simulation runs late).
+  Pose2d LidarInWorldAt(int64_t host_utime) const;
+
  private:
   // The lidar's range at an angle clockwise from its front (the RPLIDAR's convention), from
-  // the true pose now: called by the lidar emulator's thread, beam by beam, so scans sweep.
-  double RangeAt(double angle_cw_rad);
+  // the true pose at `measured_utime` (host clock): called by the lidar emulator's thread,
+  // beam by beam, so scans sweep as the robot moves.
+  double RangeAt(double angle_cw_rad, int64_t measured_utime);
+  Pose2d LidarInWorldAtLocked(int64_t host_utime) const;
 
   const Simulator& simulator_;
   SimDevicesOptions options_;
   double wheel_base_m_ = 0.230;
   mutable std::mutex mutex_;
-  Pose2d lidar_in_world_;
+  // The lidar's true pose after each recent step, by host time (oldest first).
+  std::deque<std::pair<int64_t, Pose2d>> lidar_in_world_;
   std::mt19937_64 rng_;
   std::unique_ptr<KobukiEmulator> kobuki_;
   std::unique_ptr<RplidarEmulator> rplidar_;

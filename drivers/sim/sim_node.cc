@@ -38,7 +38,7 @@ void SimNode::Tick() {
   if (options_.devices) simulator_.SetCommand(options_.devices->Command(simulator_.utime()));
   const SimStepOutput out = simulator_.Step();
   if (options_.devices) {
-    options_.devices->AfterStep(out);
+    options_.devices->AfterStep(out, simulator_.utime() + host_clock_offset_us_);
   } else {
     if (out.odometry) {
       const odometry_t msg = ToLcm(*out.odometry);
@@ -51,7 +51,7 @@ void SimNode::Tick() {
   }
   if (out.truth) {
     StampedPose truth = *out.truth;
-    truth.utime += truth_clock_offset_us_;
+    truth.utime += host_clock_offset_us_;
     const pose_t msg = ToLcm(truth, "world");
     lcm_.publish(channels::kSimTruth, &msg);
   }

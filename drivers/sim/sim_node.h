@@ -45,9 +45,9 @@ class SimNode {
   const Subscriptions& subscriptions() const { return subscriptions_; }
   // Process mode reports its measured speed in SIM_STATUS.
   void set_real_time_factor(double factor) { real_time_factor_ = factor; }
-  // SIM_TRUTH stamped on the host's monotonic clock (simulated time + offset), so truth
-  // lines up with what device drivers stamp; SIM_STATUS keeps simulated time.
-  void set_truth_clock_offset_us(int64_t offset_us) { truth_clock_offset_us_ = offset_us; }
+  // SIM_TRUTH and the emulated devices on the host's monotonic clock (simulated time +
+  // offset), so truth lines up with what device drivers stamp; SIM_STATUS keeps simulated time.
+  void set_host_clock_offset_us(int64_t offset_us) { host_clock_offset_us_ = offset_us; }
 
  private:
   bool OnCommand(const velocity_command_t& msg);
@@ -58,7 +58,7 @@ class SimNode {
   Subscriptions subscriptions_;
   int64_t commands_received_ = 0;
   double real_time_factor_ = 0.0;
-  int64_t truth_clock_offset_us_ = 0;
+  int64_t host_clock_offset_us_ = 0;
 };
 
 struct RealTimeOptions {

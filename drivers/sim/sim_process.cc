@@ -94,7 +94,7 @@ int RunSimProcess(const SimProcessOptions& o) {
     const auto lcm = OpenLcm(url);
     SimNode node(*lcm, simulator, std::move(node_options));
     // Truth on the host's clock where drivers stamp the data; else on simulated time.
-    if (devices) node.set_truth_clock_offset_us(HostClockUtime() - node.utime());
+    if (devices) node.set_host_clock_offset_us(HostClockUtime() - node.utime());
 
     std::signal(SIGINT, [](int) { g_stop = true; });
     std::signal(SIGTERM, [](int) { g_stop = true; });
