@@ -8,16 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "drivers/sim/sim_test_world.h"
+
 namespace aslam {
 namespace {
-
-// Free interior [0, 10] x [0, 8] inside one-cell walls.
-OccupancyGrid MakeWorld() {
-  OccupancyGrid grid(202, 162, 0.05, {-0.05, -0.05}, OccupancyGrid::kFree);
-  for (int col = 0; col < 202; ++col) grid.at({col, 0}) = grid.at({col, 161}) = 100;
-  for (int row = 0; row < 162; ++row) grid.at({0, row}) = grid.at({201, row}) = 100;
-  return grid;
-}
 
 void ExpectPoseNear(const Pose2d& actual, const Pose2d& expected) {
   EXPECT_NEAR(actual.x_m, expected.x_m, 1e-9);
@@ -40,7 +34,7 @@ class SimDevicesTest : public ::testing::Test {
 // The emulated lidar measures beam by beam while the simulator steps at 50 Hz: a beam
 // measured between two steps sees the pose between them, on the host clock SIM_TRUTH uses.
 TEST_F(SimDevicesTest, TheLidarLooksFromThePoseAtTheInstantOfEachBeam) {
-  Simulator simulator(MakeWorld(), {3.0, 4.0, 0.5}, SimulatorOptions());
+  Simulator simulator(RoomWithPillar(), {3.0, 4.0, 0.5}, SimulatorOptions());
   SimDevicesOptions options;
   options.dir = dir_;
   SimDevices devices(simulator, options);

@@ -1,6 +1,7 @@
 #include "drivers/sim/simulator.h"
 
 #include "drivers/sim/lidar_models.h"
+#include "drivers/sim/sim_test_world.h"
 
 #include <gtest/gtest.h>
 
@@ -15,18 +16,6 @@
 namespace aslam {
 namespace {
 
-// Free interior [0, 10] x [0, 8] inside one-cell walls, with a pillar at
-// [6, 7] x [5, 6] so scans are not all alike.
-OccupancyGrid MakeWorld() {
-  OccupancyGrid grid(202, 162, 0.05, {-0.05, -0.05}, OccupancyGrid::kFree);
-  for (int col = 0; col < 202; ++col) grid.at({col, 0}) = grid.at({col, 161}) = 100;
-  for (int row = 0; row < 162; ++row) grid.at({0, row}) = grid.at({201, row}) = 100;
-  for (int row = 101; row < 121; ++row) {
-    for (int col = 121; col < 141; ++col) grid.at({col, row}) = 100;
-  }
-  return grid;
-}
-
 VelocityCommand Command(const Simulator& sim, double linear_mps, double angular_radps) {
   return {sim.utime(), linear_mps, angular_radps};
 }
@@ -34,7 +23,7 @@ VelocityCommand Command(const Simulator& sim, double linear_mps, double angular_
 // Expects the constructor to throw std::invalid_argument mentioning `name`.
 void ExpectRejected(const SimulatorOptions& options, const std::string& name) {
   try {
-    Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+    Simulator sim(RoomWithPillar(), {2.0, 2.0, 0.0}, options);
     ADD_FAILURE() << "no exception for " << name;
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
@@ -75,17 +64,20 @@ TEST(SimulatorTest, RejectsRatesThatDoNotDivideThePhysicsRate) {
   options = {};
   options.physics_rate_hz = 200.0;
   options.lidar.rate_hz = 40.0;
-  EXPECT_NO_THROW(Simulator(MakeWorld(), {2.0, 2.0, 0.0}, options));
+  EXPECT_NO_THROW(Simulator(RoomWithPillar(), {2.0, 2.0, 0.0}, options));
 }
 
 TEST(SimulatorTest, RejectsAStartPoseInAWall) {
-  EXPECT_THROW(Simulator(MakeWorld(), {0.1, 2.0, 0.0}, SimulatorOptions{}), std::invalid_argument);
-  EXPECT_THROW(Simulator(MakeWorld(), {6.5, 5.5, 0.0}, SimulatorOptions{}), std::invalid_argument);
-  EXPECT_THROW(Simulator(MakeWorld(), {-3.0, 2.0, 0.0}, SimulatorOptions{}), std::invalid_argument);
+  EXPECT_THROW(Simulator(RoomWithPillar(), {0.1, 2.0, 0.0}, SimulatorOptions{}),
+               std::invalid_argument);
+  EXPECT_THROW(Simulator(RoomWithPillar(), {6.5, 5.5, 0.0}, SimulatorOptions{}),
+               std::invalid_argument);
+  EXPECT_THROW(Simulator(RoomWithPillar(), {-3.0, 2.0, 0.0}, SimulatorOptions{}),
+               std::invalid_argument);
 }
 
 TEST(SimulatorTest, OutputsAreDueAtTheirPeriods) {
-  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, SimulatorOptions{});
+  Simulator sim(RoomWithPillar(), {2.0, 2.0, 0.0}, SimulatorOptions{});
   EXPECT_EQ(sim.utime(), 0);
   int odometry = 0, truth = 0, scans = 0, status = 0;
   for (int step = 1; step <= 300; ++step) {
@@ -126,7 +118,7 @@ TEST(SimulatorTest, OutputsAreDueAtTheirPeriods) {
 }
 
 TEST(SimulatorTest, StandsStillWithoutACommandAndStopsWhenItGoesStale) {
-  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, SimulatorOptions{});
+  Simulator sim(RoomWithPillar(), {2.0, 2.0, 0.0}, SimulatorOptions{});
   for (int i = 0; i < 50; ++i) sim.Step();
   EXPECT_TRUE(sim.command_stale());
   EXPECT_EQ(sim.true_pose().x_m, 2.0);
@@ -163,7 +155,7 @@ TEST(SimulatorTest, StandsStillWithoutACommandAndStopsWhenItGoesStale) {
 
 TEST(SimulatorTest, CollisionsCountOncePerContact) {
   SimulatorOptions options;
-  Simulator sim(MakeWorld(), {8.0, 2.0, 0.0}, options);  // wall face at x = 10
+  Simulator sim(RoomWithPillar(), {8.0, 2.0, 0.0}, options);  // wall face at x = 10
   auto drive = [&](double v, int steps) {
     for (int i = 0; i < steps; ++i) {
       sim.SetCommand(Command(sim, v, 0.0));
@@ -196,7 +188,7 @@ TEST(SimulatorTest, NoiselessOdometryEqualsTruthInTheOdomFrame) {
   SimulatorOptions options;
   options.odometry_noise = {0.0, 0.0, 0.0, 0.0};
   const Pose2d start{2.0, 3.0, 0.7};
-  Simulator sim(MakeWorld(), start, options);
+  Simulator sim(RoomWithPillar(), start, options);
   int checked = 0;
   for (int i = 0; i < 1000; ++i) {
     sim.SetCommand(Command(sim, 0.3, 0.6 * std::sin(0.01 * i)));
@@ -217,7 +209,7 @@ TEST(SimulatorTest, NoiselessOdometryEqualsTruthInTheOdomFrame) {
 TEST(SimulatorTest, NoisyOdometryDrifts) {
   SimulatorOptions options;
   const Pose2d start{2.0, 3.0, 0.0};
-  Simulator sim(MakeWorld(), start, options);
+  Simulator sim(RoomWithPillar(), start, options);
   for (int i = 0; i < 1500; ++i) {
     sim.SetCommand(Command(sim, 0.3, 0.5));
     sim.Step();
@@ -234,7 +226,7 @@ std::string Record(uint64_t seed, const LidarOptions& lidar = {}) {
   SimulatorOptions options;
   options.seed = seed;
   options.lidar = lidar;
-  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, options);
+  Simulator sim(RoomWithPillar(), {3.0, 3.0, 0.2}, options);
   std::string bytes;
   auto append = [&bytes](const void* data, std::size_t size) {
     bytes.append(static_cast<const char*>(data), size);
@@ -258,7 +250,7 @@ std::string RecordOdometry(uint64_t seed, const LidarOptions& lidar) {
   SimulatorOptions options;
   options.seed = seed;
   options.lidar = lidar;
-  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, options);
+  Simulator sim(RoomWithPillar(), {3.0, 3.0, 0.2}, options);
   std::string bytes;
   for (int i = 0; i < 500; ++i) {
     sim.SetCommand(Command(sim, 0.4, 0.3));
@@ -291,7 +283,7 @@ TEST(SimulatorTest, TruthAndScanFollowTheTruePose) {
   options.lidar.noise_sigma_m = 0.0;
   options.lidar.noise_sigma_fraction = 0.0;
   options.lidar.dropout_probability = 0.0;
-  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+  Simulator sim(RoomWithPillar(), {2.0, 2.0, 0.0}, options);
   SimStepOutput out;
   for (int i = 0; i < 10; ++i) out = sim.Step();
   ASSERT_TRUE(out.scan && out.truth);
@@ -324,7 +316,7 @@ std::vector<float> ExpectedRanges(const Simulator& sim, const Pose2d& sensor_in_
 TEST(SimulatorTest, ScansAreCastFromTheLidarMount) {
   SimulatorOptions options = NoiselessLidar();
   options.robot.lidar_mount = {0.1, 0.0, M_PI / 2.0};  // 10 cm ahead, looking left
-  Simulator sim(MakeWorld(), {2.0, 2.0, 0.0}, options);
+  Simulator sim(RoomWithPillar(), {2.0, 2.0, 0.0}, options);
   SimStepOutput out;
   for (int i = 0; i < 10; ++i) out = sim.Step();
   ASSERT_TRUE(out.scan);
@@ -341,7 +333,7 @@ TEST(SimulatorTest, ScansAreCastFromTheLidarMount) {
 // The default mount is the base centre: scans are cast from the true pose
 // itself, bit for bit, while the robot turns through +-pi.
 TEST(SimulatorTest, ZeroMountCastsFromTheBasePoseBitForBit) {
-  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, NoiselessLidar());
+  Simulator sim(RoomWithPillar(), {3.0, 3.0, 0.2}, NoiselessLidar());
   int scans = 0;
   for (int i = 0; i < 1500; ++i) {
     sim.SetCommand(Command(sim, 0.1, 1.5));
@@ -363,7 +355,7 @@ TEST(SimulatorTest, SweptScansCastEachBeamFromThePoseAtItsTime) {
   options.lidar.noise_sigma_m = options.lidar.noise_sigma_fraction = 0.0;
   options.lidar.dropout_probability = 0.0;
   options.robot.lidar_mount = {0.05, 0.0, 0.0};
-  Simulator sim(MakeWorld(), {3.0, 3.0, 0.2}, options);
+  Simulator sim(RoomWithPillar(), {3.0, 3.0, 0.2}, options);
   const LidarModel lidar(options.lidar);
   std::map<int64_t, Pose2d> truth{{0, sim.true_pose()}};
   std::vector<LidarScan> scans;
@@ -409,7 +401,7 @@ TEST(SimulatorTest, ASweptLidarWithAPartialFieldOfViewIdlesBetweenSweeps) {
   options.lidar = LidarModelOptions("hokuyo_ust10");  // 40 Hz, 270° of the turn measured
   options.lidar.noise_sigma_m = options.lidar.noise_sigma_fraction = 0.0;
   options.lidar.dropout_probability = 0.0;
-  Simulator sim(MakeWorld(), {3.0, 3.0, 0.0}, options);
+  Simulator sim(RoomWithPillar(), {3.0, 3.0, 0.0}, options);
   std::vector<LidarScan> scans;
   for (int i = 0; i < 100; ++i) {  // 1 s
     const SimStepOutput out = sim.Step();
@@ -432,7 +424,7 @@ TEST(SimulatorTest, ASweptLidarMustNotOutrunThePhysicsStep) {
   SimulatorOptions options;
   options.lidar.swept = true;
   options.lidar.rate_hz = 5.5;  // fine: a swept lidar's rate need not divide physics
-  EXPECT_NO_THROW(Simulator(MakeWorld(), {2.0, 2.0, 0.0}, options));
+  EXPECT_NO_THROW(Simulator(RoomWithPillar(), {2.0, 2.0, 0.0}, options));
   options.lidar.rate_hz = 150.0;
   ExpectRejected(options, "lidar.rate_hz");
 }
