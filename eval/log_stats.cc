@@ -20,6 +20,7 @@
 #include "common/channels.h"
 #include "common/json_text.h"
 #include "common/text_format.h"
+#include "eval/stats.h"
 #include "procman/procman_lcm.h"
 
 namespace aslam {
@@ -104,15 +105,6 @@ std::string Cell(double value, const char* format) {
 }
 
 }  // namespace
-
-double NearestRankPercentile(const std::vector<double>& sorted_values, double p) {
-  if (sorted_values.empty()) return kNaN;
-  const double n = static_cast<double>(sorted_values.size());
-  // The epsilon keeps p·n that should be an integer (0.99·100) from rounding up past it.
-  const double rank = std::ceil(p * n - 1e-9);
-  const std::size_t index = static_cast<std::size_t>(std::clamp(rank, 1.0, n)) - 1;
-  return sorted_values[index];
-}
 
 LogStats ComputeLogStats(const std::string& lcmlog_path) {
   lcm::LogFile log(lcmlog_path, "r");

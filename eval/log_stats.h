@@ -88,10 +88,6 @@ LogStats ComputeLogStats(const std::string& lcmlog_path);
 // byte offset where reading stopped and the bytes left unread (or skipped).
 std::string LogStatsWarning(const LogStats& stats, const std::string& lcmlog_path);
 
-// Nearest-rank percentile of `sorted_values` (ascending): the ceil(p·n)-th
-// smallest, p in [0, 1] (p = 0 gives the smallest); NaN for no values.
-double NearestRankPercentile(const std::vector<double>& sorted_values, double p);
-
 // A text table: process | mean CPU % | max CPU % | share | max RSS MiB | restarts | last end, a
 // total row, then the latency line, a channel | messages | MiB | largest kB table and the
 // log length (and where a truncated log stopped). NaN shows as "-".

@@ -87,20 +87,6 @@ procman_status_t Status(const std::string& deputy,
 
 constexpr int8_t kRunning = procman_process_status_t::STATE_RUNNING;
 
-TEST(NearestRankPercentile, IsTheCeilPTimesNthSmallest) {
-  const std::vector<double> three = {1.0, 2.0, 3.0};
-  EXPECT_EQ(NearestRankPercentile(three, 0.5), 2.0);   // ceil(1.5) = 2nd
-  EXPECT_EQ(NearestRankPercentile(three, 0.99), 3.0);  // ceil(2.97) = 3rd
-  EXPECT_EQ(NearestRankPercentile(three, 1.0), 3.0);
-  EXPECT_EQ(NearestRankPercentile(three, 0.0), 1.0);        // rank 0 clamps to the smallest
-  EXPECT_EQ(NearestRankPercentile(three, 1.0 / 3.0), 1.0);  // exactly the 1st, not rounded up
-  const std::vector<double> four = {10.0, 20.0, 30.0, 40.0};
-  EXPECT_EQ(NearestRankPercentile(four, 0.5),
-            20.0);  // ceil(2) = 2nd: the lower middle, never an average
-  EXPECT_EQ(NearestRankPercentile({7.0}, 0.99), 7.0);
-  EXPECT_TRUE(std::isnan(NearestRankPercentile({}, 0.5)));
-}
-
 // 100 scans, each answered i ms after it was logged (i = 1..100 in a
 // shuffled order): nearest-rank median = 50th smallest = 50 ms, p99 = 99th
 // smallest = 99 ms, max 100 ms.

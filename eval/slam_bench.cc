@@ -19,6 +19,7 @@
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/sim_config.h"
 #include "drivers/sim/simulator.h"
+#include "eval/stats.h"
 #include "slam/occupancy_mapper.h"
 #include "slam/slam.h"
 #include "slam/slam_config.h"
@@ -307,13 +308,6 @@ int RunSlamBench(const SlamBenchOptions& options) {
     std::fprintf(stderr, "aslam-slam-bench: %s\n", e.what());
     return 1;
   }
-}
-
-double NearestRankPercentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t rank = static_cast<std::size_t>(std::ceil(fraction * values.size()));
-  return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
 }
 
 std::vector<TimedPose> OdometryAtKeyframes(const std::vector<TimedPose>& keyframes,

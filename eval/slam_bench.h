@@ -34,10 +34,6 @@ struct SlamBenchOptions {
 // Returns the exit status: 0, 1 on a failure, 2 on invalid options.
 int RunSlamBench(const SlamBenchOptions& options);
 
-// The smallest value with at least `fraction` of the values at or below it
-// (nearest rank); 0 for no values.
-double NearestRankPercentile(std::vector<double> values, double fraction);
-
 // Odometry (in "odom", sorted by utime) at each keyframe's time, relative to
 // the odometry at the first keyframe that has one: comparable with the
 // keyframes, whose first is the identity. Keyframes without odometry within

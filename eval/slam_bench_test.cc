@@ -19,14 +19,6 @@ namespace {
 
 using ::testing::HasSubstr;
 
-TEST(NearestRankPercentile, SmallestValueWithTheFractionAtOrBelow) {
-  EXPECT_EQ(NearestRankPercentile({}, 0.5), 0.0);
-  EXPECT_EQ(NearestRankPercentile({4.0, 1.0, 3.0, 2.0}, 0.5), 2.0);  // not 2.5: a value
-  EXPECT_EQ(NearestRankPercentile({4.0, 1.0, 3.0, 2.0}, 0.51), 3.0);
-  EXPECT_EQ(NearestRankPercentile({4.0, 1.0, 3.0, 2.0}, 0.99), 4.0);
-  EXPECT_EQ(NearestRankPercentile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
-}
-
 // Keyframes at 1 s and 2 s; truth and odometry at 0.5 s steps, both offset from the keyframes.
 struct Trajectories {
   std::vector<TimedPose> keyframes = {{1000000, {0.0, 0.0, 0.0}},

@@ -34,6 +34,15 @@ double Median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2.0;
 }
 
+double NearestRankPercentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const double n = static_cast<double>(values.size());
+  // The epsilon keeps fraction·n that should be an integer (0.99·100) from rounding up past it.
+  const double rank = std::ceil(fraction * n - 1e-9);
+  return values[static_cast<std::size_t>(std::clamp(rank, 1.0, n)) - 1];
+}
+
 double MannWhitneyP(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<std::pair<double, bool>> pooled;  // (value, from a)
   for (const double v : a) {

@@ -20,6 +20,10 @@ MeanStd ComputeMeanStd(const std::vector<double>& values);
 // there counts as later than every run that did). NaN if there is no value.
 double Median(std::vector<double> values);
 
+// Nearest-rank percentile: the ceil(fraction·n)-th smallest value, fraction in [0, 1] (0 gives
+// the smallest), so always a value that occurred, never an average; NaN for no values.
+double NearestRankPercentile(std::vector<double> values, double fraction);
+
 // Two-sided Mann–Whitney U test of a against b: the normal approximation with
 // tie and continuity corrections. NaN values are dropped and +inf ranks last;
 // NaN if either sample is empty.

@@ -17,6 +17,21 @@ TEST(MeanStdTest, SampleStandardDeviationOverFiniteValues) {
   EXPECT_EQ(ComputeMeanStd({}).n, 0);
 }
 
+TEST(NearestRankPercentile, IsTheCeilPTimesNthSmallest) {
+  const std::vector<double> three = {1.0, 2.0, 3.0};
+  EXPECT_EQ(NearestRankPercentile(three, 0.5), 2.0);   // ceil(1.5) = 2nd
+  EXPECT_EQ(NearestRankPercentile(three, 0.99), 3.0);  // ceil(2.97) = 3rd
+  EXPECT_EQ(NearestRankPercentile(three, 1.0), 3.0);
+  EXPECT_EQ(NearestRankPercentile(three, 0.0), 1.0);        // rank 0 clamps to the smallest
+  EXPECT_EQ(NearestRankPercentile(three, 1.0 / 3.0), 1.0);  // exactly the 1st, not rounded up
+  const std::vector<double> four = {10.0, 20.0, 30.0, 40.0};
+  EXPECT_EQ(NearestRankPercentile(four, 0.5),
+            20.0);  // ceil(2) = 2nd: the lower middle, never an average
+  EXPECT_EQ(NearestRankPercentile({7.0}, 0.99), 7.0);
+  EXPECT_EQ(NearestRankPercentile({4.0, 1.0, 3.0, 2.0}, 0.51), 3.0);  // any order
+  EXPECT_TRUE(std::isnan(NearestRankPercentile({}, 0.5)));
+}
+
 TEST(MedianTest, OddEvenEmptyAndInfinityLast) {
   EXPECT_DOUBLE_EQ(Median({3.0, 1.0, 2.0}), 2.0);
   EXPECT_DOUBLE_EQ(Median({4.0, 1.0, 3.0, 2.0}), 2.5);
