@@ -18,6 +18,7 @@
 #include "common/occupancy_grid.h"
 #include "common/pose2d.h"  // also ParsePose, for --start
 #include "common/pose_graph.h"
+#include "eval/scan_timing.h"
 #include "procman/process_history.h"
 
 namespace aslam {
@@ -133,6 +134,8 @@ struct RunMetrics {
   double d_opt_difference = 0.0;
   double d_opt_reduction_percent = 0.0;
   Pose2d map_in_world;  // where the SLAM map lies in the world (for plots over the truth)
+  // Devices in the loop only: how the drivers' scan stamps sit against truth (scan_timing.h).
+  std::optional<ScanTiming> scan_timing;
   // In-process runs only (process mode has process_stats.json): CPU per node, and
   // simulated seconds per CPU second over the whole run and, in runs of 600 s or
   // more, its first and last 300 s (wall-clock figures: not deterministic).

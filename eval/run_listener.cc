@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "aslam/frontier_list_t.hpp"
+#include "aslam/lidar_scan_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/sim_status_t.hpp"
@@ -42,6 +43,14 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool tru
     if (!truth_on_host_clock_) Heard(pose->utime);
     return true;
   });
+  if (truth_on_host_clock_) {
+    subscriptions_.Add<lidar_scan_t>(channels::kLidarScan, [this](const lidar_scan_t& m) {
+      auto scan = FromLcm(m);
+      if (!scan) return false;
+      if (scans_heard_++ % 3 == 0) scans_.push_back(std::move(*scan));
+      return true;
+    });
+  }
   subscriptions_.Add<sim_status_t>(channels::kSimStatus, [this](const sim_status_t& m) {
     collisions_ = m.collisions;
     Heard(m.utime);
@@ -214,6 +223,10 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
   m.ate_rmse_m = ate.rmse_m;
   m.ate_max_m = ate.max_m;
   m.ate_matched = ate.matched;
+  if (!listener.scans().empty()) {
+    m.scan_timing =
+        EstimateScanTiming(listener.scans(), listener.truth(), SimWorld(world.map.grid));
+  }
   m.keyframes = static_cast<int>(result->graph.nodes.size());
   m.loop_closures = 0;
   for (const PoseGraphEdge& e : result->graph.edges)

@@ -16,6 +16,7 @@
 #include "common/lcm_util.h"
 #include "common/occupancy_grid.h"
 #include "common/pose_graph.h"
+#include "common/sensor_types.h"
 #include "common/world_file.h"
 #include "eval/explore_runner.h"
 #include "eval/trajectory_metrics.h"
@@ -26,7 +27,8 @@ namespace aslam {
 class RunListener {
  public:
   // truth_on_host_clock: SIM_TRUTH is stamped on the host's clock (devices in the loop), so
-  // only SIM_STATUS tells the simulated time.
+  // only SIM_STATUS tells the simulated time; the drivers' scans are kept to judge their
+  // stamps (RunMetrics::scan_timing).
   RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool truth_on_host_clock = false);
 
   // The SLAM map placed in the world by the true pose of the first keyframe.
@@ -47,6 +49,8 @@ class RunListener {
   bool heard_sim() const { return heard_sim_; }
   int64_t sim_utime() const { return sim_utime_; }
   const std::vector<TimedPose>& truth() const { return truth_; }
+  // Devices in the loop: every third LIDAR_SCAN from the driver, to judge its stamps by truth.
+  const std::vector<LidarScan>& scans() const { return scans_; }
   const PoseGraph& graph() const { return graph_; }
   const std::optional<OccupancyGrid>& map() const { return map_; }
   const FrontierList& frontiers() const { return frontiers_; }
@@ -70,6 +74,8 @@ class RunListener {
   bool heard_sim_ = false;
   int64_t sim_utime_ = 0;
   std::vector<TimedPose> truth_;
+  std::vector<LidarScan> scans_;
+  int64_t scans_heard_ = 0;
   std::optional<Pose2d> map_in_world_;
   std::optional<CoverageEvaluator> coverage_evaluator_;  // once map_in_world_ is known
   PoseGraph graph_;
