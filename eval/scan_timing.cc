@@ -56,9 +56,8 @@ ScanTiming EstimateScanTiming(const std::vector<LidarScan>& scans,
   // Scans taken turning: the yaw rate from truth 50 ms either side of the sweep's middle.
   std::vector<const LidarScan*> turning;
   for (const LidarScan& scan : scans) {
-    const double sweep_s = scan.beam_time_s.empty()
-                               ? 0.0
-                               : *std::max_element(scan.beam_time_s.begin(), scan.beam_time_s.end());
+    double sweep_s = 0.0;
+    for (const float beam_s : scan.beam_time_s) sweep_s = std::max<double>(sweep_s, beam_s);
     const int64_t middle = scan.utime + std::llround(0.5 * sweep_s * 1e6);
     const auto before = PoseAt(truth, middle - 50000, options.max_truth_gap_us);
     const auto after = PoseAt(truth, middle + 50000, options.max_truth_gap_us);

@@ -47,8 +47,8 @@ TEST(ScanTiming, FindsHowLateOrEarlyTheStampsAre) {
   EXPECT_NEAR(exact.median_ms, 0.0, 1.5);
   for (const int late_ms : {12, -8, 25}) {
     SCOPED_TRACE(late_ms);
-    const ScanTiming timing = EstimateScanTiming(StampedLate(recording.scans, late_ms * 1000),
-                                                 recording.truth, world);
+    const ScanTiming timing =
+        EstimateScanTiming(StampedLate(recording.scans, late_ms * 1000), recording.truth, world);
     EXPECT_NEAR(timing.scans, exact.scans, 2);  // a scan at the end of speeding up may flip
     EXPECT_NEAR(timing.median_ms, late_ms, 1.5);
     EXPECT_LE(timing.p10_ms, timing.median_ms);
