@@ -76,6 +76,29 @@ TEST(MetricsJsonTest, MissingAndNonFiniteValuesAreNull) {
   EXPECT_EQ(text.find("nan"), std::string::npos);
 }
 
+TEST(MetricsJsonTest, ScanTimingOnlyFromDevicesRuns) {
+  RunMetrics m = SampleMetrics();
+  YAML::Node json = YAML::Load(MetricsToJson(m));  // not a devices run
+  EXPECT_TRUE(json["scan_stamp_late_ms"].IsNull());
+  EXPECT_TRUE(json["scan_timing_scans"].IsNull());
+  ScanTiming timing;
+  timing.scans = 0;  // a devices run without a scan taken turning
+  m.scan_timing = timing;
+  json = YAML::Load(MetricsToJson(m));
+  EXPECT_TRUE(json["scan_stamp_late_ms"].IsNull());
+  EXPECT_EQ(json["scan_timing_scans"].as<int>(), 0);
+  timing.scans = 42;
+  timing.median_ms = -1.5;
+  timing.p10_ms = -4.0;
+  timing.p90_ms = 3.0;
+  m.scan_timing = timing;
+  json = YAML::Load(MetricsToJson(m));
+  EXPECT_DOUBLE_EQ(json["scan_stamp_late_ms"].as<double>(), -1.5);
+  EXPECT_DOUBLE_EQ(json["scan_stamp_late_p10_ms"].as<double>(), -4.0);
+  EXPECT_DOUBLE_EQ(json["scan_stamp_late_p90_ms"].as<double>(), 3.0);
+  EXPECT_EQ(json["scan_timing_scans"].as<int>(), 42);
+}
+
 TEST(MetricsJsonTest, NodeCpuIsAnObjectWithTheTotal) {
   RunMetrics m = SampleMetrics();
   EXPECT_TRUE(YAML::Load(MetricsToJson(m))["node_cpu_s"].IsNull());  // process mode
