@@ -36,11 +36,6 @@ std::string NodeCpuJson(const NodeCpu& cpu) {
 }  // namespace
 
 std::string MetricsToJson(const RunMetrics& m) {
-  // A figure of the scan timing, null when not measured (NaN: no scan to fit).
-  const auto timing = [&m](double ScanTiming::*figure) -> std::optional<double> {
-    if (!m.scan_timing || std::isnan(m.scan_timing.value().*figure)) return std::nullopt;
-    return m.scan_timing.value().*figure;
-  };
   std::vector<std::pair<std::string, std::string>> fields = {
       {"world", JsonString(m.world)},
       {"method", JsonString(m.method)},
@@ -73,9 +68,10 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"d_opt_min", JsonNumber(m.d_opt_min)},
       {"d_opt_difference", JsonNumber(m.d_opt_difference)},
       {"d_opt_reduction_percent", JsonNumber(m.d_opt_reduction_percent)},
-      {"scan_stamp_late_ms", OptionalNumber(timing(&ScanTiming::median_ms))},
-      {"scan_stamp_late_p10_ms", OptionalNumber(timing(&ScanTiming::p10_ms))},
-      {"scan_stamp_late_p90_ms", OptionalNumber(timing(&ScanTiming::p90_ms))},
+      // Devices runs only; NaN (no scan to fit) is null too.
+      {"scan_stamp_late_ms", m.scan_timing ? JsonNumber(m.scan_timing->median_ms) : "null"},
+      {"scan_stamp_late_p10_ms", m.scan_timing ? JsonNumber(m.scan_timing->p10_ms) : "null"},
+      {"scan_stamp_late_p90_ms", m.scan_timing ? JsonNumber(m.scan_timing->p90_ms) : "null"},
       {"scan_timing_scans", m.scan_timing ? std::to_string(m.scan_timing->scans) : "null"},
       {"map_in_world_x_m", JsonNumber(m.map_in_world.x_m)},
       {"map_in_world_y_m", JsonNumber(m.map_in_world.y_m)},
