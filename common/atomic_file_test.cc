@@ -16,6 +16,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
 
@@ -28,14 +30,6 @@ std::string ReadAll(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-// A fresh, empty folder for one test.
-std::string Folder(const std::string& name) {
-  const std::string folder = ::testing::TempDir() + "/atomic_file_test_" + name;
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
 }
 
 std::vector<std::string> Entries(const std::string& folder) {
@@ -57,7 +51,7 @@ std::string ErrorOf(F write) {
 }
 
 TEST(WriteFileAtomicallyTest, WritesAndReplacesLeavingNoTemporaryFile) {
-  const std::string folder = Folder("replace");
+  const std::string folder = FreshTestTempDir("replace");
   const std::string path = folder + "/metrics.json";
   WriteFileAtomically(path, "a longer first version\n");
   EXPECT_EQ(ReadAll(path), "a longer first version\n");
@@ -70,7 +64,7 @@ TEST(WriteFileAtomicallyTest, WritesAndReplacesLeavingNoTemporaryFile) {
 }
 
 TEST(WriteFileAtomicallyTest, EmptyContentAndARelativePath) {
-  const std::string folder = Folder("relative");
+  const std::string folder = FreshTestTempDir("relative");
   const fs::path before = fs::current_path();
   fs::current_path(folder);
   WriteFileAtomically("empty.csv", "");
@@ -82,7 +76,7 @@ TEST(WriteFileAtomicallyTest, EmptyContentAndARelativePath) {
 
 // Root may write anywhere, so "unwritable" here is a folder that is missing or is a file.
 TEST(WriteFileAtomicallyTest, UnwritableFolderNamesThePathAndTheReason) {
-  const std::string folder = Folder("unwritable");
+  const std::string folder = FreshTestTempDir("unwritable");
   const std::string missing = folder + "/no/such/folder/map.yaml";
   EXPECT_THAT(ErrorOf([&] { WriteFileAtomically(missing, "x"); }),
               AllOf(HasSubstr(missing), HasSubstr(std::strerror(ENOENT))));
@@ -96,7 +90,7 @@ TEST(WriteFileAtomicallyTest, UnwritableFolderNamesThePathAndTheReason) {
 // A write that fails half-way (the file size limit, as a full disk would) leaves the old
 // file whole and no temporary file.
 TEST(WriteFileAtomicallyTest, FailedWriteKeepsTheOldContent) {
-  const std::string folder = Folder("failed_write");
+  const std::string folder = FreshTestTempDir("failed_write");
   const std::string path = folder + "/metrics.json";
   WriteFileAtomically(path, "old content\n");
 
@@ -116,7 +110,7 @@ TEST(WriteFileAtomicallyTest, FailedWriteKeepsTheOldContent) {
 }
 
 TEST(WriteFileAtomicallyTest, AFolderInTheWayIsNotReplaced) {
-  const std::string folder = Folder("folder_in_the_way");
+  const std::string folder = FreshTestTempDir("folder_in_the_way");
   fs::create_directories(folder + "/map.pgm/inside");
   EXPECT_THAT(ErrorOf([&] { WriteFileAtomically(folder + "/map.pgm", "P5"); }),
               HasSubstr(folder + "/map.pgm"));

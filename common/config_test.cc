@@ -7,6 +7,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
 
@@ -134,16 +136,14 @@ TEST(ConfigReader, ListsOfMappings) {
 TEST(ConfigReader, FileErrorsNameTheFile) {
   EXPECT_THAT(ErrorOf([] { ConfigReader::FromFile("/nonexistent/aslam.yaml", "sim"); }),
               AllOf(HasSubstr("/nonexistent/aslam.yaml"), HasSubstr("cannot open")));
-  const auto path = std::filesystem::temp_directory_path() / "aslam_config_test_bad.yaml";
+  const std::string path = TestTempPath("bad.yaml");
   {
     std::ofstream out(path);
     out << "sim:\n  rate_hz: 5\n  beams: 7.5\n";
   }
-  const std::string message =
-      ErrorOf([&] { LoadExample(ConfigReader::FromFile(path.string(), "sim")); });
+  const std::string message = ErrorOf([&] { LoadExample(ConfigReader::FromFile(path, "sim")); });
   std::filesystem::remove(path);
-  EXPECT_THAT(message,
-              AllOf(HasSubstr(path.string() + ":3"), HasSubstr("sim.beams"), HasSubstr("'7.5'")));
+  EXPECT_THAT(message, AllOf(HasSubstr(path + ":3"), HasSubstr("sim.beams"), HasSubstr("'7.5'")));
 }
 
 TEST(ConfigOverride, ParsesDottedKeyAndYamlValue) {
@@ -177,7 +177,7 @@ TEST(ConfigOverride, BadSyntaxNamesTheArgument) {
 // The overridden text read back: nested paths are created, existing values replaced, every
 // other key kept, and no override means the file's own content.
 TEST(ConfigOverride, AppliesAtNestedPathsOfAFile) {
-  const std::string file = ::testing::TempDir() + "/aslam_config_override.yaml";
+  const std::string file = TestTempPath("override.yaml");
   std::ofstream(file) << "# a comment\nsim:\n  rate_hz: 20\n  gains: [1]\nutility:\n  "
                          "method: fd\n";
   const std::string text = ApplyConfigOverrides(

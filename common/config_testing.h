@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 
@@ -15,9 +16,9 @@ inline std::string ShippedConfigPath() {
   return std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
 }
 
-// Writes `yaml` to a file named `name` in the test's temporary folder; returns its path.
+// Writes `yaml` to a file named `name` in the test case's own folder; returns its path.
 inline std::string WriteTestConfig(const std::string& name, const std::string& yaml) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = TestTempPath(name);
   std::ofstream(path) << yaml;
   return path;
 }

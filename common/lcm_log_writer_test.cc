@@ -7,6 +7,7 @@
 #include <string>
 
 #include "aslam/velocity_command_t.hpp"
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 namespace {
@@ -14,7 +15,7 @@ namespace {
 using ::testing::HasSubstr;
 
 TEST(LcmLogWriter, WritesEventsInOrderThatLcmReadsBack) {
-  const std::string path = ::testing::TempDir() + "/lcm_log_writer_test.lcmlog";
+  const std::string path = TestTempPath("test.lcmlog");
   velocity_command_t command{};
   command.utime = 42;
   command.linear_mps = 0.25;

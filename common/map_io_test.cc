@@ -1,7 +1,5 @@
 #include "common/map_io.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -10,23 +8,16 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed afterwards.
+// Files go in the test case's own folder.
 class MapIoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("aslam_map_io_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
   void WriteText(const std::string& name, const std::string& text) const {
@@ -57,7 +48,7 @@ class MapIoTest : public ::testing::Test {
 
   void WriteYaml(const std::string& name, const std::string& body) const { WriteText(name, body); }
 
-  fs::path dir_;
+  const fs::path dir_ = TestTempDir();
 };
 
 #define EXPECT_CONTAINS(text, part) \

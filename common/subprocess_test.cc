@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
 
@@ -29,10 +31,6 @@ std::string ReadFile(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "/subprocess_test_" + name + "_" + std::to_string(getpid());
 }
 
 TEST(SubprocessTest, ExitCodeIsReported) {
@@ -82,7 +80,7 @@ TEST(SubprocessTest, TerminateEndsAChildThatHonoursTerm) {
 }
 
 TEST(SubprocessTest, ChildIgnoringTermIsKilledAfterTheGracePeriod) {
-  const std::string ready = TempPath("ready");
+  const std::string ready = TestTempPath("ready");
   std::remove(ready.c_str());
   // Ignores TERM, says so, then waits; TERM must not end it.
   Subprocess child =
@@ -103,7 +101,7 @@ TEST(SubprocessTest, TerminateOfAnEndedChildOnlyReapsIt) {
 }
 
 TEST(SubprocessTest, OutputAndErrorGoToTheFile) {
-  const std::string log = TempPath("output.log");
+  const std::string log = TestTempPath("output.log");
   { std::ofstream(log) << "old text\n"; }
   SubprocessOptions options = Shell("echo to stdout; echo to stderr >&2; echo \"[$VAR]\"");
   options.output_path = log;
@@ -120,7 +118,7 @@ TEST(SubprocessTest, OutputAndErrorGoToTheFile) {
 
 TEST(SubprocessTest, EnvironmentAdditionReplacesAnInheritedVariable) {
   ASSERT_EQ(setenv("ASLAM_SUBPROCESS_TEST", "inherited", 1), 0);
-  const std::string log = TempPath("env.log");
+  const std::string log = TestTempPath("env.log");
   SubprocessOptions options = Shell("echo \"$ASLAM_SUBPROCESS_TEST\"; env | grep -c ^ASLAM_SUB");
   options.output_path = log;
   EXPECT_TRUE(Subprocess::Spawn(options).Wait().success());
@@ -188,7 +186,7 @@ TEST(SubprocessTest, DestroyingARunningSubprocessKillsAndReapsIt) {
 // orphaned grandchild comes to (as aslam-procman is). Last: it changes the test process.
 TEST(SubprocessTest, OwnGroupEndsWithItsLeaderAndReapAnyChildSeesTheRest) {
   ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
-  const std::string log = TempPath("group.log");
+  const std::string log = TestTempPath("group.log");
   SubprocessOptions options = Shell("sleep 30 & echo $!");
   options.output_path = log;
   options.own_process_group = true;

@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/subprocess.h"
+#include "common/test_temp_dir.h"
 #include "eval/bench_testing.h"
 
 namespace aslam {
@@ -48,7 +49,7 @@ TEST(TakeSetArgumentsTest, StopsAtDoubleDashAndNeedsAValue) {
 
 // `aslam explore ARGS` as a child: its exit code and output.
 std::pair<int, std::string> Explore(const std::string& name, std::vector<std::string> args) {
-  const std::string out = TempDir(name);
+  const std::string out = FreshTestTempDir(name);
   SubprocessOptions spawn;
   spawn.argv = {
       ASLAM_BINARY, "explore",    "--world",    std::string(ASLAM_SOURCE_DIR) + "/worlds/test",
@@ -91,7 +92,7 @@ TEST(ExploreSetTest, RunReadsAndRecordsTheEffectiveConfig) {
       Explore("set_run", {"--inproc", "--duration", "3", "--set", "utility.lambda=1.2", "--set",
                           "utility.hallucination.loop_closure_scale=2"});
   ASSERT_EQ(code, 0) << output;
-  const std::string run = ::testing::TempDir() + "/bench_test_set_run/run";
+  const std::string run = TestTempPath("set_run") + "/run";
   const YAML::Node config = YAML::LoadFile(run + "/config.yaml");
   EXPECT_EQ(config["utility"]["lambda"].as<double>(), 1.2);
   EXPECT_EQ(config["utility"]["hallucination"]["loop_closure_scale"].as<double>(), 2.0);
@@ -101,7 +102,7 @@ TEST(ExploreSetTest, RunReadsAndRecordsTheEffectiveConfig) {
 
   const auto [plain_code, plain_output] = Explore("set_none", {"--inproc", "--duration", "1"});
   ASSERT_EQ(plain_code, 0) << plain_output;
-  EXPECT_FALSE(fs::exists(::testing::TempDir() + "/bench_test_set_none/run/config.yaml"));
+  EXPECT_FALSE(fs::exists(TestTempPath("set_none") + "/run/config.yaml"));
 }
 
 // `aslam ARGS` as a child (no defaults added): its exit code and output.
@@ -127,10 +128,10 @@ TEST(DurationFlagTest, InfNanNegativeAndZeroAreRefusedNamingTheValue) {
       EXPECT_THAT(output, AllOf(HasSubstr("aslam explore: --duration "), HasSubstr(shown),
                                 HasSubstr("finite number of simulated seconds > 0")))
           << value << " " << mode;
-      EXPECT_FALSE(fs::exists(::testing::TempDir() + "/bench_test_" + name + "/run"))
+      EXPECT_FALSE(fs::exists(TestTempPath(name) + "/run"))
           << value << " " << mode << ": the run started";
     }
-    const std::string out = TempDir("bench_duration_" + value);
+    const std::string out = FreshTestTempDir("bench_duration_" + value);
     const auto [code, output] =
         Aslam(out + ".log", {"bench", "--worlds", "test", "--methods", "fd", "--seeds", "1",
                              "--duration", value, "--out", out + "/bench"});
@@ -147,7 +148,7 @@ TEST(DurationFlagTest, InfNanNegativeAndZeroAreRefusedNamingTheValue) {
 // `aslam log-stats` on a recorded log cut short in the middle of an event: the figures of what
 // it read, and a warning naming the file and the byte where reading stopped.
 TEST(LogStatsCommandTest, TruncatedLogWarnsNamingTheFileAndTheOffset) {
-  const std::string out = TempDir("log_stats_truncated");
+  const std::string out = FreshTestTempDir("log_stats_truncated");
   const std::string log = out + "/run.lcmlog";
   fs::copy_file(std::string(ASLAM_SOURCE_DIR) + "/logs/test_drive.lcmlog", log);
   const auto whole_bytes = fs::file_size(log);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
 #include "eval/bench.h"
 #include "eval/bench_testing.h"
 
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 
 // Hand-made runs: the tables' arithmetic and the curves' hold-last rule.
 TEST(BenchReportTest, TablesAndCurvesFromKnownRuns) {
-  const std::string dir = TempDir("tables");
+  const std::string dir = FreshTestTempDir("tables");
   std::vector<RunRecord> records;
   const double coverages[] = {0.5, 0.7};
   const double reductions[] = {20.0, 30.0};
@@ -67,7 +68,7 @@ TEST(BenchReportTest, TablesAndCurvesFromKnownRuns) {
 // Coverage at a sixth, a third, two thirds and all of the duration, and the
 // median time to 90 % with never-reached runs counted as the latest.
 TEST(BenchReportTest, CoverageTableFromKnownRuns) {
-  const std::string dir = TempDir("coverage");
+  const std::string dir = FreshTestTempDir("coverage");
   std::vector<RunRecord> records;
   // (method, seed, time to 90 % or null, coverage series for seconds 1..6)
   const struct {
@@ -183,7 +184,7 @@ TEST(BenchReportTest, SweepReportsAreGroupedBySetting) {
   options.methods = {"fd"};
   options.seeds = 3;
   options.duration_s = 4.0;
-  options.out_dir = TempDir("sweep_reports");
+  options.out_dir = FreshTestTempDir("sweep_reports");
   options.plots = false;
   options.sweep = {"utility.lambda=0.3,1.2"};
   const std::vector<BenchRun> runs = PlanBench(options);  // seed 1: 0.3, 1.2; seed 2: ...
@@ -243,7 +244,7 @@ TEST(BenchReportTest, NoSweepKeepsThePlainReports) {
   options.methods = {"fd"};
   options.seeds = 1;
   options.duration_s = 4.0;
-  options.out_dir = TempDir("plain_reports");
+  options.out_dir = FreshTestTempDir("plain_reports");
   options.plots = false;
   FakeFinishedRun(PlanBench(options)[0], {{"coverage", "0.5"}});
   WriteBenchReports(options);

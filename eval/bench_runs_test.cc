@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
 #include "eval/bench_testing.h"
 
 namespace aslam {
@@ -69,7 +70,7 @@ TEST(WorldLabelTest, FolderOrMapStem) {
 }
 
 TEST(ReadFinishedRunTest, InterruptedOrTornRunsAreNotFinished) {
-  const std::string dir = TempDir("finished");
+  const std::string dir = FreshTestTempDir("finished");
   BenchRun run{"w", "w", "fd", 1, dir + "/run", "", ""};
   EXPECT_FALSE(ReadFinishedRun(run));
   WriteFile(run.dir + "/metrics.json",
@@ -135,7 +136,7 @@ TEST(RunBenchTest, SweepResumesPerSetting) {
   options.methods = {"fd"};
   options.seeds = 2;
   options.jobs = 1;
-  options.out_dir = TempDir("sweep_resume");
+  options.out_dir = FreshTestTempDir("sweep_resume");
   options.aslam_binary = "/bin/true";
   options.sweep = {"utility.lambda=0.3,0.6"};
   const std::vector<BenchRun> runs = PlanBench(options);

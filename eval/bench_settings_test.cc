@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
 #include "eval/bench_testing.h"
 
 namespace aslam {
@@ -96,7 +97,7 @@ TEST(PlanSettingsTest, BadSweepsNameTheSet) {
 }
 
 TEST(WriteSettingConfigsTest, EachSettingsConfigHoldsItsOverrides) {
-  const std::string out = TempDir("setting_configs");
+  const std::string out = FreshTestTempDir("setting_configs");
   const std::string shipped = std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
   const std::vector<BenchSetting> settings = PlanSettings({"utility.lambda=0.3,1.2"});
   WriteSettingConfigs(shipped, settings, out);
@@ -109,13 +110,13 @@ TEST(WriteSettingConfigsTest, EachSettingsConfigHoldsItsOverrides) {
             YAML::LoadFile(shipped)["utility"]["method"].as<std::string>());
   EXPECT_EQ(high["slam"].size(), YAML::LoadFile(shipped)["slam"].size());
   // Nothing is written for a bench without --set.
-  const std::string plain = TempDir("setting_configs_plain");
+  const std::string plain = FreshTestTempDir("setting_configs_plain");
   WriteSettingConfigs(shipped, PlanSettings({}), plain);
   EXPECT_FALSE(fs::exists(plain + "/settings"));
 }
 
 TEST(WriteSettingConfigsTest, MisspeltKeyFailsBeforeAnyRunNamingIt) {
-  const std::string out = TempDir("setting_typo");
+  const std::string out = FreshTestTempDir("setting_typo");
   EXPECT_THAT(ErrorOf([&] { WriteSettingConfigs("", PlanSettings({"utility.lamda=1"}), out); }),
               AllOf(HasSubstr("utility.lamda"), HasSubstr("unknown key"),
                     HasSubstr("settings/utility.lamda=1/config.yaml")));
@@ -125,7 +126,7 @@ TEST(WriteSettingConfigsTest, MisspeltKeyFailsBeforeAnyRunNamingIt) {
 
 // A resumed sweep may not run a setting's remaining runs under another config than its first.
 TEST(WriteSettingConfigsTest, ChangedBaseConfigWithRunsIsRefused) {
-  const std::string out = TempDir("setting_changed");
+  const std::string out = FreshTestTempDir("setting_changed");
   const std::string base = out + "/base.yaml";
   WriteFile(base, "nav:\n  goal_snap_m: 0.15\n");
   const std::vector<BenchSetting> settings = PlanSettings({"utility.lambda=0.3"});

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/test_temp_dir.h"
 #include "eval/bench_testing.h"
 
 namespace aslam {
@@ -25,7 +26,7 @@ TEST(RunBenchTest, SmallMatrixWritesEveryOutputAndResumes) {
   options.duration_s = 40.0;
   options.jobs = 2;
   options.config_file = std::string(ASLAM_SOURCE_DIR) + "/config/aslam.yaml";
-  options.out_dir = TempDir("matrix");
+  options.out_dir = FreshTestTempDir("matrix");
   options.aslam_binary = ASLAM_BINARY;
 
   const BenchSummary first = RunBench(options, nullptr, {});

@@ -35,14 +35,6 @@ inline int CountLines(const std::string& text) {
   return n;
 }
 
-// An empty folder of the test's own, named for the test.
-inline std::string TempDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/bench_test_" + name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 // A finished run in run.dir as `aslam explore` leaves it, enough for every report: metrics.json
 // with `fields` (JSON values as text, e.g. {"coverage", "0.5"}) and end_reason "duration",
 // coverage.csv holding `coverage` and uncertainty.csv 1.0 for `seconds` s, a small unknown map

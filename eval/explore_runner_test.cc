@@ -11,6 +11,7 @@
 
 #include "common/config.h"
 #include "common/map_io.h"
+#include "common/test_temp_dir.h"
 #include "eval/run_outputs.h"
 #include "slam/g2o_io.h"
 
@@ -119,7 +120,7 @@ TEST(ExploreRunnerTest, SameSeedGivesIdenticalMetricsAndTimeline) {
 
 TEST(ExploreRunnerTest, RunFolderHoldsEveryFileConsistentWithTheMetrics) {
   const ExploreResult r = RunExploreInProcess(TestWorld("ours"));
-  const std::string dir = ::testing::TempDir() + "/explore_runner_test_run";
+  const std::string dir = TestTempPath("run");
   std::filesystem::remove_all(dir);
   WriteRunFolder(r, dir);
   for (const char* f :
@@ -202,7 +203,7 @@ TEST(ExploreRunnerTest, ReturnHomeEndsDoneAtTheStart) {
   ASSERT_GT(distance_from_start(away), 1.0) << "the test world's last frontier is at the start";
 
   ExploreOptions o = TestWorld("fd");
-  const std::string config = ::testing::TempDir() + "return_home.yaml";
+  const std::string config = TestTempPath("return_home.yaml");
   std::ofstream(config) << ApplyConfigOverrides(o.config_file,
                                                 {ParseConfigOverride("utility.return_home=true")});
   o.config_file = config;

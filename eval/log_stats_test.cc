@@ -19,28 +19,13 @@
 #include "aslam/velocity_command_t.hpp"
 #include "common/channels.h"
 #include "common/lcm_log_writer.h"
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 namespace {
 
 constexpr int64_t kStartUs = 1'700'000'000'000'000;  // a wall-clock epoch, as lcm-logger writes
 constexpr double kMib = 1024.0 * 1024.0;
-
-// A file in the test's temp folder, unique per test case and process (ctest
-// runs the cases in parallel), removed afterwards.
-class TempLogPath {
- public:
-  TempLogPath() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = ::testing::TempDir() + "log_stats_" + info->test_suite_name() + "_" + info->name() +
-            "_" + std::to_string(::getpid()) + ".lcmlog";
-  }
-  ~TempLogPath() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 // Bytes that are not a message, as a log may hold them.
 void WriteRawBytes(LcmLogWriter* log, const std::string& channel, int64_t logged_us,
@@ -91,9 +76,9 @@ constexpr int8_t kRunning = procman_process_status_t::STATE_RUNNING;
 // shuffled order): nearest-rank median = 50th smallest = 50 ms, p99 = 99th
 // smallest = 99 ms, max 100 ms.
 TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     for (int i = 0; i < 100; ++i) {
       const int64_t utime = 5'000'000 + i * 100'000;          // 10 Hz simulated time
       const int64_t scan_logged_us = kStartUs + i * 200'000;  // half real time: 200 ms apart
@@ -102,7 +87,7 @@ TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
       log.Write(channels::kCmdVel, scan_logged_us + delay_ms * 1000, Command(utime));
     }
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   const LatencyStats& l = stats.scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 100);
   EXPECT_EQ(l.unmatched_commands, 0);
@@ -118,16 +103,16 @@ TEST(ComputeLogStats, ScanToCommandLatencyOverKnownDelays) {
 }
 
 TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     log.Write(channels::kLidarScan, kStartUs, Scan(1'000'000));
     log.Write(channels::kCmdVel, kStartUs + 4'000, Command(1'000'000));   // 4 ms
     log.Write(channels::kCmdVel, kStartUs + 50'000, Command(1'050'000));  // no scan at this utime
     log.Write(channels::kLidarScan, kStartUs + 100'000, Scan(1'100'000));
     log.Write(channels::kCmdVel, kStartUs + 106'000, Command(1'100'000));  // 6 ms
   }
-  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  const LatencyStats l = ComputeLogStats(log_path).scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 2);
   EXPECT_EQ(l.unmatched_commands, 1);
   EXPECT_DOUBLE_EQ(l.median_ms, 4.0);  // ceil(0.5·2) = 1st of {4, 6}
@@ -138,14 +123,14 @@ TEST(ComputeLogStats, CommandWithoutItsScanIsUnmatched) {
 // aslam-nav's stop at shutdown carries the latest input time, i.e. the utime
 // of a scan it already answered; it is not a 2-second answer to that scan.
 TEST(ComputeLogStats, SecondCommandForAnAnsweredScanIsUnmatched) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     log.Write(channels::kLidarScan, kStartUs, Scan(7'000'000));
     log.Write(channels::kCmdVel, kStartUs + 3'000, Command(7'000'000));
     log.Write(channels::kCmdVel, kStartUs + 2'000'000, Command(7'000'000));  // the stop
   }
-  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  const LatencyStats l = ComputeLogStats(log_path).scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 1);
   EXPECT_EQ(l.unmatched_commands, 1);
   EXPECT_DOUBLE_EQ(l.max_ms, 3.0);
@@ -153,9 +138,9 @@ TEST(ComputeLogStats, SecondCommandForAnAnsweredScanIsUnmatched) {
 
 // Scans are kept kScanMatchWindowSeconds (10 s) of log time, no longer.
 TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     log.Write(channels::kLidarScan, kStartUs, Scan(100));
     log.Write(channels::kLidarScan, kStartUs + 1'000'000, Scan(200));
     log.Write(channels::kCmdVel, kStartUs + 10'500'000,
@@ -163,7 +148,7 @@ TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
     log.Write(channels::kCmdVel, kStartUs + 10'900'000,
               Command(200));  // 9.9 s after its scan: kept
   }
-  const LatencyStats l = ComputeLogStats(file.path()).scan_to_cmd_vel;
+  const LatencyStats l = ComputeLogStats(log_path).scan_to_cmd_vel;
   EXPECT_EQ(l.matched, 1);
   EXPECT_EQ(l.unmatched_commands, 1);
   EXPECT_DOUBLE_EQ(l.max_ms, 9900.0);
@@ -176,9 +161,9 @@ TEST(ComputeLogStats, ScanOlderThanTheWindowIsForgotten) {
 TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
   constexpr int8_t kBackoff = procman_process_status_t::STATE_BACKOFF;
   constexpr int8_t kFailed = procman_process_status_t::STATE_FAILED;
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     const int64_t mib = 1024 * 1024;
     log.Write(channels::kProcmanStatus, kStartUs,
               Status("robot", {Process("aslam-slam", kRunning, 60.0, 100 * mib),
@@ -199,7 +184,7 @@ TEST(ComputeLogStats, CpuMeansOverRunningSamplesSortedWithShares) {
               Status("base", {Process("aslam-sim", kRunning, 30.0, 45 * mib),
                               Process("aslam-viewer", kFailed, 0.0, 0)}));
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   ASSERT_EQ(stats.processes.size(), 4u);
   const ProcessCpu& slam = stats.processes[0];
   const ProcessCpu& nav = stats.processes[1];
@@ -249,9 +234,9 @@ TEST(ComputeLogStats, RestartsAndLastEndsFromTheStatuses) {
   };
   constexpr int8_t kBackoff = procman_process_status_t::STATE_BACKOFF;
   constexpr int8_t kStopped = procman_process_status_t::STATE_STOPPED;
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     log.Write(channels::kProcmanStatus, kStartUs,
               Status("explore", {Process("slam", kRunning, 50.0, 0)}));
     log.Write(channels::kProcmanStatus, kStartUs + 1'000'000,
@@ -261,7 +246,7 @@ TEST(ComputeLogStats, RestartsAndLastEndsFromTheStatuses) {
     log.Write(channels::kProcmanStatus, kStartUs + 3'000'000,
               Status("explore", {with(Process("slam", kStopped, 0.0, 0), 1, -15, false)}));
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   ASSERT_EQ(stats.processes.size(), 1u);
   EXPECT_EQ(stats.processes[0].history.restarts, 1);
   EXPECT_EQ(stats.processes[0].history.last_signal, 9);
@@ -275,9 +260,9 @@ TEST(ComputeLogStats, RestartsAndLastEndsFromTheStatuses) {
 // Bytes that are not the channel's type are skipped and counted; channels
 // this analysis does not read are not judged.
 TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    LcmLogWriter log(file.path());
+    LcmLogWriter log(log_path);
     log.Write(channels::kLidarScan, kStartUs, Scan(500));
     WriteRawBytes(&log, channels::kCmdVel, kStartUs + 1'000, {1, 2, 3});
     log.Write(channels::kProcmanStatus, kStartUs + 2'000, Command(500));  // the wrong type
@@ -286,7 +271,7 @@ TEST(ComputeLogStats, UndecodableMessagesAreSkippedAndCounted) {
     log.Write(channels::kProcmanStatus, kStartUs + 9'000,
               Status("robot", {Process("aslam-nav", kRunning, 12.0, 1024 * 1024)}));
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   EXPECT_EQ(stats.undecodable, 2);
   EXPECT_EQ(stats.scan_to_cmd_vel.matched, 1);
   EXPECT_EQ(stats.scan_to_cmd_vel.unmatched_commands, 0);
@@ -324,22 +309,22 @@ void ExpectRuntimeErrorNaming(const std::string& path) {
 }
 
 TEST(ComputeLogStats, MissingFileThrowsNamingIt) {
-  ExpectRuntimeErrorNaming(::testing::TempDir() + "no_such_dir_log_stats/run.lcmlog");
+  ExpectRuntimeErrorNaming(TestTempPath("no_such_dir/run.lcmlog"));
 }
 
 TEST(ComputeLogStats, GarbageFileThrowsNamingIt) {
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    std::ofstream out(file.path(), std::ios::binary);
+    std::ofstream out(log_path, std::ios::binary);
     for (int i = 0; i < 1000; ++i) out << "this is not an lcm log\n";
   }
-  ExpectRuntimeErrorNaming(file.path());
+  ExpectRuntimeErrorNaming(log_path);
 }
 
 TEST(ComputeLogStats, EmptyFileThrowsNamingIt) {
-  TempLogPath file;
-  { std::ofstream out(file.path(), std::ios::binary); }
-  ExpectRuntimeErrorNaming(file.path());
+  const std::string log_path = TestTempPath("run.lcmlog");
+  { std::ofstream out(log_path, std::ios::binary); }
+  ExpectRuntimeErrorNaming(log_path);
 }
 
 // The JSON of hand-made stats, whole: fixed key order, NaN as null.
@@ -488,12 +473,12 @@ TEST(ComputeLogStats, TruncatedFixtureIsReadToItsLastWholeEventAndSaysSo) {
   const int64_t stop = starts[kept_events];
   const int64_t cut = stop + (starts[kept_events + 1] - stop) / 2;
   ASSERT_GT(cut, stop);
-  TempLogPath file;
+  const std::string log_path = TestTempPath("run.lcmlog");
   {
-    std::ofstream out(file.path(), std::ios::binary);
+    std::ofstream out(log_path, std::ios::binary);
     out.write(bytes.data(), cut);
   }
-  const LogStats cut_short = ComputeLogStats(file.path());
+  const LogStats cut_short = ComputeLogStats(log_path);
   EXPECT_TRUE(cut_short.truncated);
   EXPECT_EQ(cut_short.events, static_cast<int64_t>(kept_events));
   EXPECT_EQ(cut_short.read_bytes, stop);
@@ -501,8 +486,8 @@ TEST(ComputeLogStats, TruncatedFixtureIsReadToItsLastWholeEventAndSaysSo) {
   EXPECT_GT(cut_short.log_seconds, 0.0);
   EXPECT_LT(cut_short.log_seconds, whole.log_seconds);
 
-  const std::string warning = LogStatsWarning(cut_short, file.path());
-  EXPECT_NE(warning.find(file.path()), std::string::npos) << warning;
+  const std::string warning = LogStatsWarning(cut_short, log_path);
+  EXPECT_NE(warning.find(log_path), std::string::npos) << warning;
   EXPECT_NE(warning.find("stopped at byte " + std::to_string(stop) + " of " + std::to_string(cut)),
             std::string::npos)
       << warning;
@@ -526,39 +511,39 @@ std::string EventBytes(const std::string& path, const std::string& channel, int6
 // Bytes before the first event are skipped by LCM to the first sync word; the stats count them
 // instead of passing over them in silence.
 TEST(ComputeLogStats, BytesBeforeTheFirstEventAreCountedAsSkipped) {
-  TempLogPath file;
-  const std::string scan = EventBytes(file.path(), channels::kLidarScan, kStartUs, Scan(500));
+  const std::string log_path = TestTempPath("run.lcmlog");
+  const std::string scan = EventBytes(log_path, channels::kLidarScan, kStartUs, Scan(500));
   const std::string command =
-      EventBytes(file.path(), channels::kCmdVel, kStartUs + 4'000, Command(500));
+      EventBytes(log_path, channels::kCmdVel, kStartUs + 4'000, Command(500));
   {
-    std::ofstream out(file.path(), std::ios::binary);
+    std::ofstream out(log_path, std::ios::binary);
     out << "torn" << scan << command;
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   EXPECT_EQ(stats.events, 2);
   EXPECT_FALSE(stats.truncated);
   EXPECT_EQ(stats.skipped_bytes, 4);
   EXPECT_EQ(stats.scan_to_cmd_vel.matched, 1);
-  const std::string warning = LogStatsWarning(stats, file.path());
-  EXPECT_NE(warning.find(file.path()), std::string::npos) << warning;
+  const std::string warning = LogStatsWarning(stats, log_path);
+  EXPECT_NE(warning.find(log_path), std::string::npos) << warning;
   EXPECT_NE(warning.find("4 bytes between events"), std::string::npos) << warning;
 }
 
 // Bytes that are no event in the middle of a log (a torn write): LCM 1.3 stops reading there
 // (and drops the event before them). Whatever the library does, the stats do not hide it.
 TEST(ComputeLogStats, GarbageInTheMiddleIsReportedNotHidden) {
-  TempLogPath file;
-  const std::string a = EventBytes(file.path(), channels::kLidarScan, kStartUs, Scan(500));
-  const std::string b = EventBytes(file.path(), channels::kLidarScan, kStartUs + 1'000, Scan(600));
-  const std::string c = EventBytes(file.path(), channels::kLidarScan, kStartUs + 2'000, Scan(700));
+  const std::string log_path = TestTempPath("run.lcmlog");
+  const std::string a = EventBytes(log_path, channels::kLidarScan, kStartUs, Scan(500));
+  const std::string b = EventBytes(log_path, channels::kLidarScan, kStartUs + 1'000, Scan(600));
+  const std::string c = EventBytes(log_path, channels::kLidarScan, kStartUs + 2'000, Scan(700));
   {
-    std::ofstream out(file.path(), std::ios::binary);
+    std::ofstream out(log_path, std::ios::binary);
     out << a << a << b << "torn" << c;
   }
-  const LogStats stats = ComputeLogStats(file.path());
+  const LogStats stats = ComputeLogStats(log_path);
   EXPECT_LT(stats.events, 4);
   EXPECT_TRUE(stats.truncated || stats.skipped_bytes == 4);
-  EXPECT_NE(LogStatsWarning(stats, file.path()).find(file.path()), std::string::npos);
+  EXPECT_NE(LogStatsWarning(stats, log_path).find(log_path), std::string::npos);
 }
 
 }  // namespace

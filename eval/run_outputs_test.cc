@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/map_io.h"
+#include "common/test_temp_dir.h"
 #include "slam/g2o_io.h"
 
 namespace aslam {
@@ -201,7 +202,7 @@ TEST(RunImageTest, MapScaledUpAndFlippedWithDrawingsOverIt) {
 }
 
 TEST(RunFolderTest, WritesEveryFileReadableByItsReader) {
-  const std::string dir = ::testing::TempDir() + "/run_outputs_test_folder";
+  const std::string dir = TestTempPath("run");
   std::filesystem::remove_all(dir);
   const ExploreResult r = SmallResult();
   WriteRunFolder(r, dir);

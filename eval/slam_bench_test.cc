@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
+
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 namespace {
@@ -79,9 +79,7 @@ std::map<std::string, int> EventsPerChannel(const std::string& path) {
 
 TEST(RunSlamBench, RecordsTheSimulatorAndWritesMapAndTrajectory) {
   const std::string root = ASLAM_SOURCE_DIR;
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("slam_bench_test_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
+  const std::filesystem::path dir = FreshTestTempDir("bench");
   SlamBenchOptions options;
   options.world_dir = root + "/worlds/test";
   options.drive_path = root + "/config/drives/test_loop.yaml";
@@ -89,7 +87,6 @@ TEST(RunSlamBench, RecordsTheSimulatorAndWritesMapAndTrajectory) {
   options.duration_s = 2.0;
   options.out_dir = (dir / "out").string();
   options.record_log_path = (dir / "drive.lcmlog").string();
-  std::filesystem::create_directories(dir);
   ASSERT_EQ(RunSlamBench(options), 0);
   // 2 s of the simulator: odometry and truth at 50 Hz, scans at 10 Hz.
   const std::map<std::string, int> counts = EventsPerChannel(options.record_log_path);
@@ -104,7 +101,6 @@ TEST(RunSlamBench, RecordsTheSimulatorAndWritesMapAndTrajectory) {
   std::getline(csv, first_row);
   EXPECT_THAT(header, HasSubstr("node,utime,x_m"));
   EXPECT_THAT(first_row, HasSubstr("0,"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(RunSlamBench, RejectsMissingWorldOrDriveAndNegativeDuration) {

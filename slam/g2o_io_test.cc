@@ -7,12 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
-
-std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "/g2o_io_test_" + name;
-}
 
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path);
@@ -21,7 +19,7 @@ void WriteText(const std::string& path, const std::string& text) {
 
 // The message of the runtime_error ReadG2o throws, or "" if it does not throw.
 std::string ReadError(const std::string& text) {
-  const std::string path = TempPath("bad.g2o");
+  const std::string path = TestTempPath("bad.g2o");
   WriteText(path, text);
   try {
     ReadG2o(path);
@@ -51,7 +49,7 @@ TEST(G2oIoTest, RoundTripIsExact) {
   closure.measurement = {-1.0, 2.0, -3.0};
   graph.edges.push_back(closure);
 
-  const std::string path = TempPath("round_trip.g2o");
+  const std::string path = TestTempPath("round_trip.g2o");
   WriteG2o(graph, path);
   const PoseGraph read = ReadG2o(path);
 
@@ -77,7 +75,7 @@ TEST(G2oIoTest, RoundTripIsExact) {
 }
 
 TEST(G2oIoTest, ReadsTheStandardFormatWithCommentsBlankLinesAndAnyVertexOrder) {
-  const std::string path = TempPath("standard.g2o");
+  const std::string path = TestTempPath("standard.g2o");
   WriteText(path,
             "# a comment\n"
             "VERTEX_SE2 1 1.0 0.0 0.5\n"
@@ -99,7 +97,7 @@ TEST(G2oIoTest, ReadsTheStandardFormatWithCommentsBlankLinesAndAnyVertexOrder) {
 }
 
 TEST(G2oIoTest, MalformedLinesNameThePathAndLine) {
-  const std::string path = TempPath("bad.g2o");
+  const std::string path = TestTempPath("bad.g2o");
   const std::string header = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
   const std::string at_line_3 = path + ":3:";
   struct Case {
@@ -128,7 +126,7 @@ TEST(G2oIoTest, MalformedLinesNameThePathAndLine) {
 TEST(G2oIoTest, MissingVertexIdsAndUnreadableFilesThrow) {
   EXPECT_NE(ReadError("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 2 0 0 0\n").find("vertex 1 is missing"),
             std::string::npos);
-  EXPECT_THROW(ReadG2o(TempPath("does_not_exist.g2o")), std::runtime_error);
+  EXPECT_THROW(ReadG2o(TestTempPath("does_not_exist.g2o")), std::runtime_error);
   EXPECT_THROW(WriteG2o(PoseGraph{}, "/nonexistent_dir/x.g2o"), std::runtime_error);
 }
 

@@ -3,8 +3,6 @@
 
 #include "slam/slam_journal.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +13,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/test_temp_dir.h"
 #include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
 #include "drivers/sim/simulator.h"
@@ -24,19 +23,6 @@ namespace {
 
 const std::string kRoot = ASLAM_SOURCE_DIR;
 using ::testing::HasSubstr;
-
-class TempDir {
- public:
-  TempDir() {
-    char pattern[] = "/tmp/aslam_journal_XXXXXX";
-    path_ = ::mkdtemp(pattern);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  std::string File(const std::string& name) const { return path_ + "/" + name; }
-
- private:
-  std::string path_;
-};
 
 // The lap of the test world (it closes a loop), fed scan by scan to whichever Slam
 // `slam_for` returns for that scan; also returns the truth in "map" at each keyframe time.
@@ -106,20 +92,19 @@ SlamOptions ExactMapOptions() {
 }
 
 TEST(SlamJournal, ReadsBackIntoTheSameSlam) {
-  TempDir dir;
   Slam slam(ExactMapOptions());
   {
-    SlamJournalWriter writer(dir.File("slam.journal"), 0);
+    SlamJournalWriter writer(TestTempPath("slam.journal"), 0);
     slam.set_journal(&writer);
     Lap().Run([&](int) { return &slam; });
     slam.set_journal(nullptr);
     ASSERT_FALSE(writer.error()) << *writer.error();
   }
   ASSERT_GE(slam.counters().loop_closures_accepted, 1);
-  const SlamJournalRead read = ReadSlamJournal(dir.File("slam.journal"));
+  const SlamJournalRead read = ReadSlamJournal(TestTempPath("slam.journal"));
   EXPECT_FALSE(read.damage);
   EXPECT_EQ(read.valid_bytes,
-            static_cast<int64_t>(std::filesystem::file_size(dir.File("slam.journal"))));
+            static_cast<int64_t>(std::filesystem::file_size(TestTempPath("slam.journal"))));
 
   Slam restored(ExactMapOptions());
   restored.Restore(read.snapshot);
@@ -153,8 +138,7 @@ TEST(SlamJournal, AResumedSlamKeepsItsIdsAndFrame) {
   reference_lap.Run([&](int) { return &reference; });
 
   // The same lap, "killed" after a third of its scans and resumed from the journal.
-  TempDir dir;
-  const std::string path = dir.File("slam.journal");
+  const std::string path = TestTempPath("slam.journal");
   Lap lap;
   auto first = std::make_unique<Slam>(SlamOptions{});
   auto writer = std::make_unique<SlamJournalWriter>(path, 0);
@@ -211,12 +195,11 @@ TEST(SlamJournal, AResumedSlamKeepsItsIdsAndFrame) {
 // same Slam, is smaller than the one that kept every optimization's poses, and what the
 // rest of the lap appends to it reads back too.
 TEST(SlamJournal, ARewriteHoldsTheSameSlamInLessSpaceAndAppendingGoesOn) {
-  TempDir dir;
   int64_t appended_only_bytes = 0;
   int scans = 0;
   {
     Slam reference(ExactMapOptions());
-    SlamJournalWriter writer(dir.File("appended.journal"), 0);
+    SlamJournalWriter writer(TestTempPath("appended.journal"), 0);
     reference.set_journal(&writer);
     Lap().Run([&](int scan) {
       scans = scan + 1;
@@ -226,7 +209,7 @@ TEST(SlamJournal, ARewriteHoldsTheSameSlamInLessSpaceAndAppendingGoesOn) {
     writer.Sync();
     appended_only_bytes = writer.bytes_written();
   }
-  const std::string path = dir.File("slam.journal");
+  const std::string path = TestTempPath("slam.journal");
   Slam slam(ExactMapOptions());
   SlamJournalWriter writer(path, 0);
   slam.set_journal(&writer);
@@ -269,8 +252,7 @@ TEST(SlamJournal, ARewriteHoldsTheSameSlamInLessSpaceAndAppendingGoesOn) {
 
 // Optimization records past half of a journal over 1 MiB ask for a rewrite.
 TEST(SlamJournal, WantsARewriteOncePosesAreMostOfIt) {
-  TempDir dir;
-  SlamJournalWriter writer(dir.File("slam.journal"), 0);
+  SlamJournalWriter writer(TestTempPath("slam.journal"), 0);
   EXPECT_FALSE(writer.WantsRewrite());
   const std::vector<PoseGraphNode> nodes(1000, PoseGraphNode{0, 0, {1.0, 2.0, 0.5}});
   int64_t utime = 0;
@@ -283,12 +265,11 @@ TEST(SlamJournal, WantsARewriteOncePosesAreMostOfIt) {
   std::string why_not;
   ASSERT_TRUE(writer.Rewrite(SlamSnapshot{}, &why_not)) << why_not;
   EXPECT_FALSE(writer.WantsRewrite());
-  EXPECT_EQ(ReadSlamJournal(dir.File("slam.journal")).records, 1);  // the state
+  EXPECT_EQ(ReadSlamJournal(TestTempPath("slam.journal")).records, 1);  // the state
 }
 
 TEST(SlamJournal, ADamagedTailIsCutAndWritingGoesOnAfterTheLastWholeRecord) {
-  TempDir dir;
-  const std::string path = dir.File("slam.journal");
+  const std::string path = TestTempPath("slam.journal");
   Slam slam(SlamOptions{});
   {
     SlamJournalWriter writer(path, 0);
@@ -337,8 +318,7 @@ TEST(SlamJournal, ADamagedTailIsCutAndWritingGoesOnAfterTheLastWholeRecord) {
 }
 
 TEST(SlamJournal, NotAJournalIsAnErrorNamingThePath) {
-  TempDir dir;
-  const std::string path = dir.File("map.yaml");
+  const std::string path = TestTempPath("map.yaml");
   std::ofstream(path) << "image: map.pgm\n";
   try {
     ReadSlamJournal(path);
@@ -347,8 +327,8 @@ TEST(SlamJournal, NotAJournalIsAnErrorNamingThePath) {
     EXPECT_THAT(e.what(), HasSubstr(path));
     EXPECT_THAT(e.what(), HasSubstr("not an aslam SLAM journal"));
   }
-  EXPECT_THROW(ReadSlamJournal(dir.File("missing")), std::runtime_error);
-  EXPECT_THROW(SlamJournalWriter(dir.File("no/such/dir/slam.journal"), 0), std::runtime_error);
+  EXPECT_THROW(ReadSlamJournal(TestTempPath("missing")), std::runtime_error);
+  EXPECT_THROW(SlamJournalWriter(TestTempPath("no/such/dir/slam.journal"), 0), std::runtime_error);
 }
 
 }  // namespace

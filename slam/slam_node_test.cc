@@ -16,6 +16,7 @@
 #include "common/channels.h"
 #include "common/inproc_host.h"
 #include "common/map_io.h"
+#include "common/test_temp_dir.h"
 #include "common/types_lcm.h"
 #include "common/world_file.h"
 #include "drivers/sim/scripted_drive.h"
@@ -228,8 +229,7 @@ TEST_F(SlamNodeDrive, PublishesTheMapAtMostOncePerSecondOfMessageTimeAndAfterClo
 
 TEST_F(SlamNodeDrive, WriteOutputsWritesALoadableMapAndTheGraph) {
   SlamNode& node = harness_->mutable_node();
-  const std::string dir = ::testing::TempDir() + "/slam_node_test_outputs/run";
-  std::filesystem::remove_all(dir);
+  const std::string dir = TestTempPath("run");
   ASSERT_TRUE(node.WriteOutputs(dir));
 
   const LoadedMap loaded = LoadMap(dir + "/map.yaml");
@@ -307,9 +307,7 @@ TEST(SlamNode, AParkedRobotsMapAndGraphAreRepublished) {
 }
 
 TEST(SlamNode, AResumedNodeAnnouncesItsMapGraphAndPoseAtOnce) {
-  const std::string dir = std::filesystem::temp_directory_path() / "aslam_slam_node_resume";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const std::string dir = FreshTestTempDir("resume");
   const std::string path = dir + "/slam.journal";
   std::size_t keyframes = 0;
   {
@@ -359,8 +357,7 @@ TEST(SlamNode, RawMapEncodingPublishesTheUncompressedGrid) {
 TEST(SlamNode, WriteOutputsBeforeAnyScanWritesOnlyTheGraph) {
   InProcessHost host;
   SlamNode node(host.lcm(), SlamOptions{});
-  const std::string dir = ::testing::TempDir() + "/slam_node_test_outputs/empty";
-  std::filesystem::remove_all(dir);
+  const std::string dir = TestTempPath("empty");
   EXPECT_FALSE(node.WriteOutputs(dir));
   EXPECT_TRUE(std::filesystem::exists(dir + "/graph.g2o"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/map.yaml"));

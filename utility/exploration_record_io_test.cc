@@ -1,13 +1,13 @@
 #include "utility/exploration_record_io.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 namespace {
@@ -25,9 +25,7 @@ class StateFile : public ::testing::Test {
     }
     return "no error";
   }
-  const std::string path_ = std::filesystem::temp_directory_path() /
-                            ("aslam_utility_state_" + std::to_string(::getpid()) + ".yaml");
-  ~StateFile() override { std::filesystem::remove(path_); }
+  const std::string path_ = TestTempPath("state.yaml");
 };
 
 TEST_F(StateFile, RoundTripsExactly) {

@@ -1,7 +1,5 @@
 #include "utility/utility_node.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 
 #include <gmock/gmock.h>
@@ -17,6 +15,7 @@
 #include "aslam/utility_scores_t.hpp"
 #include "common/channels.h"
 #include "common/inproc_host.h"
+#include "common/test_temp_dir.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
 #include "utility/explore_control_client.h"
@@ -348,9 +347,7 @@ TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
 }
 
 TEST(UtilityNode, AStateFileCarriesTheCountsAcrossARestart) {
-  const std::string path = std::filesystem::temp_directory_path() /
-                           ("aslam_utility_node_state_" + std::to_string(::getpid()) + ".yaml");
-  std::filesystem::remove(path);
+  const std::string path = TestTempPath("state.yaml");
   {
     Bench bench(UtilityMethod::kFd);
     EXPECT_FALSE(bench.mutable_node().UseStateFile(path));  // nothing to resume

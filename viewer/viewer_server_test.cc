@@ -1,7 +1,6 @@
 #include "viewer/viewer_server.h"
 
 #include <civetweb.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <condition_variable>
@@ -18,6 +17,7 @@
 #include "common/channels.h"
 #include "common/inproc_host.h"
 #include "common/lcm_log_writer.h"
+#include "common/test_temp_dir.h"
 #include "frontier/frontier_lcm.h"
 #include "viewer/viewer_lcm.h"
 #include "viewer/viewer_replay.h"
@@ -214,9 +214,7 @@ class Replay : public ::testing::Test {
       log.Write(channels::kFrontiers, 1'000'000'000 + i * 10'000'000, msg);
     }
   }
-  void TearDown() override { std::filesystem::remove(path_); }
-  const std::string path_ = std::filesystem::temp_directory_path() /
-                            ("aslam_viewer_replay_" + std::to_string(::getpid()) + ".lcmlog");
+  const std::string path_ = TestTempPath("replay.lcmlog");
 };
 
 TEST_F(Replay, ShowsTheRunAsItWasAtAnyTime) {

@@ -1,8 +1,8 @@
 #include "worlds/worldgen.h"
+#include "common/test_temp_dir.h"
 #include "common/world_file.h"
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -132,22 +132,6 @@ WorldgenOptions Options(WorldStyle style, double area_m2, uint64_t seed) {
   return options;
 }
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("aslam_worldgen_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string Path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
 TEST(WorldgenTest, SameSeedSameMapOtherSeedOtherMap) {
   const GeneratedWorld a = GenerateWorld(Options(WorldStyle::kTest, 110.0, 7));
   const GeneratedWorld b = GenerateWorld(Options(WorldStyle::kTest, 110.0, 7));
@@ -223,10 +207,9 @@ TEST(WorldgenTest, BadOptionsNameTheOption) {
 }
 
 TEST(WorldgenTest, WrittenWorldLoadsAsFolderWorldYamlAndBareMap) {
-  TempDir dir;
   const WorldgenOptions options = Options(WorldStyle::kTest, 100.0, 11);
   const GeneratedWorld world = GenerateWorld(options);
-  const std::string out = dir.Path("tiny");
+  const std::string out = TestTempPath("tiny");
   WriteWorld(world, options, "tiny", out, RegenerateCommand(options, "tiny", out));
   for (const char* file : {"map.yaml", "map.pgm", "world.yaml", "README.md"}) {
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / file)) << file;
@@ -256,9 +239,8 @@ TEST(WorldgenTest, WrittenWorldLoadsAsFolderWorldYamlAndBareMap) {
 }
 
 TEST(WorldgenTest, LoadWorldErrorsNameFileAndKey) {
-  TempDir dir;
   const WorldgenOptions options = Options(WorldStyle::kTest, 100.0, 11);
-  const std::string out = dir.Path("w");
+  const std::string out = TestTempPath("w");
   WriteWorld(GenerateWorld(options), options, "w", out, "n/a");
   const std::string world_yaml = out + "/world.yaml";
   const auto error_of = [&](const std::string& text) {
@@ -286,9 +268,9 @@ TEST(WorldgenTest, LoadWorldErrorsNameFileAndKey) {
   message = error_of("start: {x_m: 1, y_m: 1, yaw_rad: 0}\nfree_area_m2: 100\nmap: gone.yaml\n");
   EXPECT_NE(message.find("gone.yaml: map file not found"), std::string::npos) << message;
 
-  EXPECT_THROW(LoadWorld(dir.Path("nowhere")), std::runtime_error);
-  fs::create_directories(dir.Path("empty"));
-  EXPECT_THROW(LoadWorld(dir.Path("empty")), std::runtime_error);
+  EXPECT_THROW(LoadWorld(TestTempPath("nowhere")), std::runtime_error);
+  fs::create_directories(TestTempPath("empty"));
+  EXPECT_THROW(LoadWorld(TestTempPath("empty")), std::runtime_error);
 }
 
 // The worlds shipped in the repository: documented sizes, drivable, and
@@ -348,8 +330,7 @@ int RunWorldgen(const std::string& arguments) {
 }
 
 TEST(WorldgenMainTest, FlagsAndExitCodes) {
-  TempDir dir;
-  const std::string out = dir.Path("cli");
+  const std::string out = TestTempPath("cli");
   EXPECT_EQ(RunWorldgen("--help"), 0);
   EXPECT_EQ(RunWorldgen("--bogus 1"), 1);
   EXPECT_EQ(RunWorldgen("--free-area 100 --seed 1"), 1);                    // no --out

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
+#include "common/test_temp_dir.h"
 
 namespace aslam {
 namespace {
@@ -38,11 +39,9 @@ class DriveFileTest : public ::testing::Test {
  protected:
   std::string Write(const std::string& text) {
     std::ofstream(path_) << text;
-    return path_.string();
+    return path_;
   }
-  void TearDown() override { std::filesystem::remove(path_); }
-  std::filesystem::path path_ = std::filesystem::temp_directory_path() /
-                                ("aslam_drive_test_" + std::to_string(::getpid()) + ".yaml");
+  const std::string path_ = TestTempPath("drive.yaml");
 };
 
 TEST_F(DriveFileTest, LoadsSegments) {
@@ -64,9 +63,8 @@ TEST_F(DriveFileTest, BadFilesNameKeyAndValue) {
     }
     return std::string();
   };
-  EXPECT_THAT(
-      error("segments:\n  - {duration_s: -1}\n"),
-      AllOf(HasSubstr(path_.string()), HasSubstr("segments[0].duration_s"), HasSubstr("'-1'")));
+  EXPECT_THAT(error("segments:\n  - {duration_s: -1}\n"),
+              AllOf(HasSubstr(path_), HasSubstr("segments[0].duration_s"), HasSubstr("'-1'")));
   EXPECT_THAT(error("segments:\n  - {linear_mps: 0.2}\n"), HasSubstr("needs a duration"));
   EXPECT_THAT(error("segments:\n  - {duration_s: 1, speed: 2}\n"),
               AllOf(HasSubstr("segments[0].speed"), HasSubstr("unknown key")));

@@ -18,6 +18,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/test_temp_dir.h"
 #include "drivers/emulators/hokuyo_emulator.h"
 #include "drivers/hokuyo/hokuyo_driver.h"
 #include "drivers/io/host_clock.h"
@@ -187,7 +188,7 @@ TEST(HokuyoOptionsTest, LoadsTheSectionAndNamesBadKeys) {
 }
 
 TEST(HokuyoOptionsTest, TheLidarMountComesFromTheRobotSection) {
-  const std::string file = ::testing::TempDir() + "/hokuyo_mount.yaml";
+  const std::string file = TestTempPath("mount.yaml");
   std::ofstream(file) << "robot:\n  lidar_mount: {x_m: 0.1, y_m: 0.02, yaw_rad: -0.5}\n"
                          "hokuyo:\n  host: 10.0.0.7\n";
   const HokuyoOptions o = LoadHokuyoOptionsFromFile(file);
@@ -572,11 +573,7 @@ TEST(HokuyoSerialTest, UnplugAndReplugResumeScans) {
   e.time_scale = 2.0;
   auto emulator = HokuyoEmulator::OnPseudoTerminal(e);
   // The driver opens a stable name (like /dev/serial/by-id/...) that the test re-points.
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("hokuyo_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::filesystem::path link = dir / "urg";
-  std::filesystem::remove(link);
+  const std::filesystem::path link = TestTempPath("urg");
   std::filesystem::create_symlink(emulator->device_path(), link);
   HokuyoOptions o = FastOptions();
   o.port = link.string();
@@ -588,13 +585,12 @@ TEST(HokuyoSerialTest, UnplugAndReplugResumeScans) {
   })) << running.log();
   EXPECT_NE(running.driver().last_error().find(link.string()), std::string::npos);
   const std::size_t while_unplugged = running.num_scans();
-  const std::filesystem::path new_link = dir / "urg.new";
+  const std::filesystem::path new_link = TestTempPath("urg.new");
   std::filesystem::create_symlink(emulator->Replug(), new_link);
   std::filesystem::rename(new_link, link);  // atomic re-point, as udev does
   ASSERT_TRUE(running.WaitForScans(while_unplugged + 3)) << running.log();
   running.Stop();
   EXPECT_GE(running.driver().stats().reconnects, 1);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(HokuyoTcpTest, DisconnectAndReconnectResumeScans) {

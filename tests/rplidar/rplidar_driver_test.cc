@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "common/config.h"
+#include "common/test_temp_dir.h"
 #include "drivers/emulators/rplidar_emulator.h"
 #include "drivers/io/host_clock.h"
 #include "drivers/io/serial_port.h"
@@ -651,7 +652,7 @@ TEST(RplidarOptionsTest, ConfigErrorsNameFileKeyAndValue) {
 }
 
 TEST(RplidarOptionsTest, TheLidarMountComesFromTheRobotSection) {
-  const std::string file = ::testing::TempDir() + "/rplidar_mount.yaml";
+  const std::string file = TestTempPath("mount.yaml");
   std::ofstream(file) << "robot:\n  lidar_mount: {x_m: 0.12, y_m: -0.03, yaw_rad: 3.14159}\n"
                          "rplidar:\n  port: /dev/rplidar\n";
   const RplidarOptions o = LoadRplidarOptionsFromFile(file);
