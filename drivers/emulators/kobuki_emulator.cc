@@ -294,6 +294,7 @@ void KobukiEmulator::Run() {
       ++next_feedback_;
       if (!pty_ || silent_) continue;
       std::vector<uint8_t> packet = FeedbackPacket();
+      ++feedback_sent_;  // before its bytes leave: a reader that has them sees it counted
       if (!split_tail_.empty()) {
         Send(split_tail_);
         split_tail_.clear();
@@ -311,7 +312,6 @@ void KobukiEmulator::Run() {
       } else {
         Send(packet);
       }
-      ++feedback_sent_;
     }
     now_s_ = std::min(now_s_, next_feedback_ * period);
     if (!pending_garbage_.empty() && split_tail_.empty() && pty_) {
