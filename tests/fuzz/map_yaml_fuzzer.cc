@@ -12,8 +12,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace aslam;
   static const bool image_written = [] {
-    // 4 x 3 cells: free, occupied and unknown grey levels.
-    std::ofstream("/tmp/aslam_fuzz_map.pgm", std::ios::binary)
+    // 4 x 3 cells: free, occupied and unknown grey levels; beside the input, as it names it.
+    std::ofstream(FuzzFilePath("aslam_fuzz_map.pgm"), std::ios::binary)
         << "P5\n4 3\n255\n"
         << std::string("\xfe\x00\xcd\xfe\xfe\x00\xcd\xfe\xfe\x00\xcd\xfe", 12);
     return true;
