@@ -13,6 +13,8 @@
 #include <sstream>
 #include <thread>
 
+#include "common/test_temp_dir.h"
+
 namespace aslam {
 namespace {
 
@@ -46,15 +48,7 @@ bool Alive(int pid) { return pid > 0 && kill(pid, 0) == 0; }
 
 class DeputyTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    char dir[] = "/tmp/deputy_test.XXXXXX";
-    ASSERT_NE(mkdtemp(dir), nullptr);
-    log_dir_ = dir;
-  }
-  void TearDown() override {
-    deputy_.reset();  // kills and reaps what is left
-    std::filesystem::remove_all(log_dir_);
-  }
+  void TearDown() override { deputy_.reset(); }  // kills and reaps what is left
 
   Deputy& Make(std::vector<ProcessConfig> processes, const std::string& exit_when = "",
                double stop_timeout_s = 3.0, bool reap_all_children = false) {
@@ -95,7 +89,7 @@ class DeputyTest : public ::testing::Test {
   }
 
   ManualClock clock_;
-  std::string log_dir_;
+  const std::string log_dir_ = TestTempDir();
   std::unique_ptr<Deputy> deputy_;
 };
 
@@ -457,8 +451,7 @@ TEST_F(DeputyTest, SubreaperReapsOrphanedGrandchildren) {
 }
 
 TEST(DeputyCpuTest, BusyChildShowsCpu) {
-  char dir[] = "/tmp/deputy_test.XXXXXX";
-  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string dir = TestTempDir();
   {
     SteadyClock clock;
     LaunchConfig config;
@@ -475,7 +468,6 @@ TEST(DeputyCpuTest, BusyChildShowsCpu) {
     }
     EXPECT_GT(cpu, 0.0);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

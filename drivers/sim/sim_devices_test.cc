@@ -1,13 +1,11 @@
 #include "drivers/sim/sim_devices.h"
 
 #include <gtest/gtest.h>
-#include <stdlib.h>
-
 #include <cmath>
-#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "common/test_temp_dir.h"
 #include "drivers/sim/sim_test_world.h"
 
 namespace aslam {
@@ -21,14 +19,7 @@ void ExpectPoseNear(const Pose2d& actual, const Pose2d& expected) {
 
 class SimDevicesTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    char dir_template[] = "/tmp/sim_devices_test.XXXXXX";
-    ASSERT_NE(mkdtemp(dir_template), nullptr);
-    dir_ = dir_template;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string dir_;
+  const std::string dir_ = TestTempDir();
 };
 
 // The emulated lidar measures beam by beam while the simulator steps at 50 Hz: a beam
