@@ -28,11 +28,8 @@ constexpr uint8_t kOutsideLabel = 0;
 constexpr uint8_t kWallLabel = 1;
 constexpr uint8_t kFurnitureLabel = 2;
 constexpr uint8_t kFreeLabel = 3;
+constexpr uint8_t kSpeckleLabel = 4;
 
-// Furniture must leave every room passable for a disk of this radius (a
-// 0.9 m wide robot path) and let it sweep most of the floor.
-constexpr double kPassageRadius_m = 0.45;
-constexpr double kMinRoomCoverage = 0.9;
 constexpr double kDoorKeepClearDepth_m = 1.2;  // furniture-free zone inside a door
 constexpr double kDoorKeepClearSide_m = 0.3;
 constexpr double kDoorInset_m = 0.2;        // wall kept between a door and a room corner
@@ -128,6 +125,7 @@ struct Room {
   cv::Rect interior;
   std::vector<Door> doors;
   RoomKind kind = RoomKind::kOffice;
+  std::vector<cv::Rect> cut_outs;  // interior cells given to an alcove or a dead end
 };
 
 struct Layout {
@@ -297,6 +295,20 @@ void AddBlockRooms(const cv::Rect& interior, const WorldgenOptions& options, con
     hall.kind = RoomKind::kHall;
     for (Side side : {Side::kBottom, Side::kTop, Side::kLeft, Side::kRight}) {
       const Interval along = AlongInterval(interior, RunsAlongX(side));
+      if (options.hall_door_spacing_m > 0.0) {
+        // Long hall sides get several doors, one in each equal part.
+        const int parts = std::max(
+            1, static_cast<int>(
+                   std::lround(along.size / double(cells.Cells(options.hall_door_spacing_m)))));
+        for (int part = 0; part < parts; ++part) {
+          const Interval piece{along.start + part * along.size / parts, along.size / parts};
+          if (auto door = PlaceDoor(interior, side, piece, 2 * cells.door_min, 2 * cells.door_max,
+                                    cells, rng)) {
+            hall.doors.push_back(*door);
+          }
+        }
+        continue;
+      }
       const Interval middle{along.start + along.size / 5, along.size * 3 / 5};
       if (auto door = PlaceDoor(interior, side, middle, 2 * cells.door_min, 2 * cells.door_max,
                                 cells, rng)) {
@@ -542,11 +554,71 @@ double FillFactor(RoomKind kind) {
   return 1.0;
 }
 
+// One piece of furniture as drawn: solid rectangles and round blobs (an
+// ellipse filling its rectangle). `footprint_cells` is the floor it takes,
+// the floor under a table on legs and its chairs included.
+struct Item {
+  std::vector<cv::Rect> solid;
+  std::vector<cv::Rect> round;
+  double footprint_cells = 0.0;
+};
+
+// Pieces of the cluttered styles.
+const Piece kClutterDesk{1.2, 1.6, 0.6, 0.8, true};
+const Piece kClutterCabinet{0.5, 1.2, 0.4, 0.6, true};
+const Piece kLabBench{1.8, 3.0, 0.7, 0.9, true};
+const Piece kWallShelf{0.9, 2.4, 0.35, 0.5, true};
+constexpr double kClutterIslandClearance_m = 0.8;  // free ring around a table or desk cluster
+constexpr double kShelvingPerimeterAisle_m = 1.4;  // free band between shelving and hall walls
+
+enum class ClutterKind { kDesk, kDeskCluster, kTable, kCabinet, kBench, kShelf };
+
+struct WeightedClutter {
+  ClutterKind kind;
+  double weight;
+};
+
+std::vector<WeightedClutter> ClutterMenu(RoomKind kind) {
+  using K = ClutterKind;
+  switch (kind) {
+    case RoomKind::kOffice:
+      return {{K::kDesk, 4}, {K::kCabinet, 2}, {K::kShelf, 1}, {K::kTable, 1}};
+    case RoomKind::kMeeting: return {{K::kTable, 4}, {K::kCabinet, 1}, {K::kShelf, 1}};
+    case RoomKind::kOpenPlan:
+      return {{K::kDeskCluster, 4}, {K::kDesk, 2}, {K::kCabinet, 1}, {K::kTable, 1}};
+    case RoomKind::kLab: return {{K::kBench, 3}, {K::kTable, 2}, {K::kCabinet, 1}, {K::kShelf, 1}};
+    case RoomKind::kHall:
+      return {{K::kDeskCluster, 3}, {K::kTable, 2}, {K::kCabinet, 1}, {K::kShelf, 1}};
+  }
+  return {};
+}
+
+// Cluttered rooms: open-plan halls are furnished like offices, not as halls.
+double ClutterFillFactor(RoomKind kind) {
+  switch (kind) {
+    case RoomKind::kOffice: return 1.0;
+    case RoomKind::kMeeting: return 0.8;
+    case RoomKind::kOpenPlan: return 1.1;
+    case RoomKind::kLab: return 1.1;
+    case RoomKind::kHall: return 0.9;
+  }
+  return 1.0;
+}
+
+// A count with mean `mean`: its whole part, plus one by chance for the rest.
+int DrawCount(double mean, Rng& rng) {
+  const double whole = std::floor(mean);
+  return static_cast<int>(whole) + (rng.Chance(mean - whole) ? 1 : 0);
+}
+
 // Places furniture in one room, checking each piece keeps the room passable.
 class RoomFurnisher {
  public:
-  RoomFurnisher(const Room& room, const CellSizes& cells, const cv::Mat& disk)
-      : room_(room), cells_(cells), disk_(disk) {
+  // `labels`, when given (the textured styles), also keeps out of the room
+  // the cells already drawn solid (cut corners, ragged walls) and its cut-outs.
+  RoomFurnisher(const Room& room, const CellSizes& cells, const cv::Mat& disk, double coverage_min,
+                const cv::Mat* labels = nullptr)
+      : room_(room), cells_(cells), disk_(disk), coverage_min_(coverage_min) {
     // A local frame: the room, its door openings and a patch of corridor
     // beyond each door, so the passage check sees the way out.
     const int reach = cells.wall + cells.Cells(1.0);
@@ -587,6 +659,15 @@ class RoomFurnisher {
       free_(Local(outside)).setTo(255);
       keep_clear_.push_back(keep_clear & room.interior);
     }
+    if (labels) {
+      cv::Mat drawn_free = cv::Mat::zeros(frame_.size(), CV_8U);
+      const cv::Rect inside = frame_ & cv::Rect(0, 0, labels->cols, labels->rows);
+      drawn_free(Local(inside)).setTo(255, (*labels)(inside) == kFreeLabel);
+      for (const cv::Rect& cut : room.cut_outs) drawn_free(Local(cut & frame_)).setTo(0);
+      free_ &= drawn_free;
+      interior_mask_ &= free_;
+    }
+    furniture_ = cv::Mat::zeros(frame_.size(), CV_8U);
   }
 
   // Adds pieces until `fill` of the floor is covered or attempts run out;
@@ -610,12 +691,63 @@ class RoomFurnisher {
       }
       const std::optional<cv::Rect> rect =
           piece->against_wall ? WallCandidate(*piece, rng) : IslandCandidate(*piece, rng);
-      if (!rect || !Accept(*rect)) continue;
+      if (!rect || !Accept(Item{{*rect}, {}, double(rect->area())})) continue;
       pieces_.push_back(*rect);
       covered_cells += rect->area();
     }
     return pieces_;
   }
+
+  // The cluttered styles: desks with chairs, desk clusters, tables (on legs
+  // or solid) with chairs, cabinets, shelves, lab benches, plants; a
+  // shelving hall first gets its rows of shelving.
+  void FurnishCluttered(const WorldgenOptions& options, bool shelving, Rng& rng) {
+    floor_cells_ = cv::countNonZero(interior_mask_);
+    if (shelving) AddShelvingRows(rng);
+    const std::vector<WeightedClutter> menu = ClutterMenu(room_.kind);
+    double weight_sum = 0.0;
+    for (const auto& entry : menu) weight_sum += entry.weight;
+    const double target_cells = options.clutter_fill * ClutterFillFactor(room_.kind) * floor_cells_;
+    // Bigger rooms get more tries: they hold more pieces.
+    const int attempts =
+        kFurnitureAttemptsPerRoom + static_cast<int>(cells_.SquareMeters(floor_cells_));
+    for (int attempt = 0; attempt < attempts && footprint_cells_ < target_cells; ++attempt) {
+      double pick = rng.Real(0.0, weight_sum);
+      ClutterKind kind = menu.back().kind;
+      for (const auto& entry : menu) {
+        if (pick < entry.weight) {
+          kind = entry.kind;
+          break;
+        }
+        pick -= entry.weight;
+      }
+      std::optional<Item> item;
+      switch (kind) {
+        case ClutterKind::kDesk: item = DeskWithChairs(options, rng); break;
+        case ClutterKind::kDeskCluster: item = DeskCluster(options, rng); break;
+        case ClutterKind::kTable: item = TableWithChairs(options, rng); break;
+        case ClutterKind::kCabinet: item = WallItem(kClutterCabinet, rng); break;
+        case ClutterKind::kBench: item = WallItem(kLabBench, rng); break;
+        case ClutterKind::kShelf: item = WallItem(kWallShelf, rng); break;
+      }
+      if (item) Accept(*item);
+    }
+    const int plants =
+        DrawCount(options.plants_per_100m2 * cells_.SquareMeters(floor_cells_) / 100.0, rng);
+    for (int plant = 0; plant < plants; ++plant) {
+      for (int attempt = 0; attempt < 5; ++attempt) {
+        if (Accept(Plant(rng))) break;
+      }
+    }
+  }
+
+  // Writes the furniture placed by FurnishCluttered into `labels`.
+  void DrawFurniture(cv::Mat& labels) const {
+    const cv::Rect inside = frame_ & cv::Rect(0, 0, labels.cols, labels.rows);
+    labels(inside).setTo(kFurnitureLabel, furniture_(Local(inside)));
+  }
+  double floor_cells() const { return floor_cells_; }
+  double footprint_cells() const { return footprint_cells_; }
 
  private:
   cv::Rect Local(const cv::Rect& canvas_rect) const { return canvas_rect - frame_.tl(); }
@@ -629,6 +761,10 @@ class RoomFurnisher {
       if ((rect & zone).area() > 0) return true;
     }
     return false;
+  }
+
+  bool Inside(const cv::Rect& rect) const {
+    return (rect & room_.interior) == rect && rect.area() > 0;
   }
 
   // A piece flush against a random wall; small gaps along the wall close up.
@@ -668,10 +804,15 @@ class RoomFurnisher {
 
   // A piece in the open, with a clear ring around it.
   std::optional<cv::Rect> IslandCandidate(const Piece& piece, Rng& rng) const {
-    const cv::Rect& in = room_.interior;
-    const int clearance = cells_.Cells(kIslandClearance_m);
     const int length = cells_.Cells(rng.Real(piece.length_min_m, piece.length_max_m));
     const int depth = cells_.Cells(rng.Real(piece.depth_min_m, piece.depth_max_m));
+    return IslandRect(length, depth, cells_.Cells(kIslandClearance_m), rng);
+  }
+
+  // A `length` x `depth` rectangle along the room's long axis, with a free
+  // ring of `clearance` around it clear of the doors.
+  std::optional<cv::Rect> IslandRect(int length, int depth, int clearance, Rng& rng) const {
+    const cv::Rect& in = room_.interior;
     const bool long_x = in.width >= in.height;  // tables follow the room's long axis
     const int width = long_x ? length : depth;
     const int height = long_x ? depth : length;
@@ -687,12 +828,210 @@ class RoomFurnisher {
     return rect;
   }
 
+  std::optional<Item> WallItem(const Piece& piece, Rng& rng) const {
+    const std::optional<cv::Rect> rect = WallCandidate(piece, rng);
+    if (!rect) return std::nullopt;
+    return Item{{*rect}, {}, double(rect->area())};
+  }
+
+  // A chair of `size` cells at `corner`: a round blob (an office chair's
+  // seat and base) or, by chance, its four legs.
+  void AddChair(cv::Point corner, int size, const WorldgenOptions& options, Rng& rng,
+                Item* item) const {
+    const cv::Rect seat(corner.x, corner.y, size, size);
+    if (!Inside(seat) || Blocked(seat) || InKeepClear(seat)) return;
+    for (const cv::Rect& other : item->round) {
+      if ((other & seat).area() > 0) return;
+    }
+    for (const cv::Rect& other : item->solid) {
+      if ((other & seat).area() > 0) return;
+    }
+    if (rng.Chance(options.chair_legs_probability)) {
+      for (const cv::Point leg :
+           {seat.tl(), cv::Point(seat.x + size - 1, seat.y), cv::Point(seat.x, seat.y + size - 1),
+            seat.br() - cv::Point(1, 1)}) {
+        item->solid.emplace_back(leg.x, leg.y, 1, 1);
+      }
+    } else {
+      item->round.push_back(seat);
+    }
+    item->footprint_cells += seat.area();
+  }
+
+  int ChairSize(Rng& rng) const { return cells_.Cells(rng.Real(0.4, 0.55)); }
+
+  // Chairs along the `side` face of `top` (outside it, or tucked under it
+  // by up to `tuck` cells), about one per `spacing` cells.
+  void AddChairsAlong(const cv::Rect& top, Side side, int spacing, int tuck,
+                      const WorldgenOptions& options, Rng& rng, Item* item) const {
+    const bool along_x = RunsAlongX(side);
+    const Interval along = AlongInterval(top, along_x);
+    const int seats = std::max(1, along.size / spacing);
+    for (int seat = 0; seat < seats; ++seat) {
+      const int chairs = DrawCount(options.chairs_per_desk, rng);
+      if (chairs == 0) continue;
+      const int size = ChairSize(rng);
+      const int centre = along.start + (2 * seat + 1) * along.size / (2 * seats) +
+                         rng.Int(-cells_.Cells(0.1), cells_.Cells(0.1));
+      const int gap = rng.Int(-tuck, cells_.Cells(0.25));
+      int across = 0;
+      switch (side) {
+        case Side::kBottom: across = top.y - gap - size; break;
+        case Side::kTop: across = top.y + top.height + gap; break;
+        case Side::kLeft: across = top.x - gap - size; break;
+        case Side::kRight: across = top.x + top.width + gap; break;
+      }
+      const cv::Point corner =
+          along_x ? cv::Point(centre - size / 2, across) : cv::Point(across, centre - size / 2);
+      AddChair(corner, size, options, rng, item);
+    }
+  }
+
+  // The room wall a wall piece stands against (its free side faces away).
+  Side WallOf(const cv::Rect& rect) const {
+    const cv::Rect& in = room_.interior;
+    const bool bottom = rect.y == in.y, top = rect.y + rect.height == in.y + in.height;
+    const bool left = rect.x == in.x, right = rect.x + rect.width == in.x + in.width;
+    // A piece in a corner touches two walls; its long side is against the wall.
+    if ((bottom || top) && (rect.width >= rect.height || !(left || right))) {
+      return bottom ? Side::kBottom : Side::kTop;
+    }
+    return left ? Side::kLeft : Side::kRight;
+  }
+
+  static Side Opposite(Side side) {
+    switch (side) {
+      case Side::kBottom: return Side::kTop;
+      case Side::kTop: return Side::kBottom;
+      case Side::kLeft: return Side::kRight;
+      case Side::kRight: return Side::kLeft;
+    }
+    return side;
+  }
+
+  std::optional<Item> DeskWithChairs(const WorldgenOptions& options, Rng& rng) const {
+    const std::optional<cv::Rect> desk = WallCandidate(kClutterDesk, rng);
+    if (!desk) return std::nullopt;
+    Item item{{*desk}, {}, double(desk->area())};
+    AddChairsAlong(*desk, Opposite(WallOf(*desk)), desk->area(), 0, options, rng, &item);
+    return item;
+  }
+
+  // Two rows of desks back to back in the open, chairs on both long sides.
+  std::optional<Item> DeskCluster(const WorldgenOptions& options, Rng& rng) const {
+    const int desks = rng.Int(2, 4);
+    const int desk_width = cells_.Cells(rng.Real(1.2, 1.6));
+    const int depth = 2 * cells_.Cells(rng.Real(0.7, 0.8));
+    const std::optional<cv::Rect> top =
+        IslandRect(desks * desk_width, depth, cells_.Cells(kClutterIslandClearance_m), rng);
+    if (!top) return std::nullopt;
+    Item item{{*top}, {}, double(top->area())};
+    const bool long_x = top->width >= top->height;
+    for (Side side : long_x ? std::array<Side, 2>{Side::kBottom, Side::kTop}
+                            : std::array<Side, 2>{Side::kLeft, Side::kRight}) {
+      AddChairsAlong(*top, side, desk_width, 0, options, rng, &item);
+    }
+    return item;
+  }
+
+  // A table: four legs (by chance) or a solid top, chairs around it.
+  std::optional<Item> TableWithChairs(const WorldgenOptions& options, Rng& rng) const {
+    const int length = cells_.Cells(rng.Real(1.2, 2.4));
+    const int depth = cells_.Cells(rng.Real(0.8, 1.2));
+    const std::optional<cv::Rect> top =
+        IslandRect(length, depth, cells_.Cells(kClutterIslandClearance_m), rng);
+    if (!top) return std::nullopt;
+    Item item;
+    item.footprint_cells = top->area();
+    const bool legs = rng.Chance(options.table_legs_probability);
+    if (legs) {
+      const int leg = cells_.Cells(rng.Real(0.05, 0.08));
+      const int inset = 1;
+      const int x0 = top->x + inset, x1 = top->x + top->width - inset - leg;
+      const int y0 = top->y + inset, y1 = top->y + top->height - inset - leg;
+      for (const cv::Point corner :
+           {cv::Point(x0, y0), cv::Point(x1, y0), cv::Point(x0, y1), cv::Point(x1, y1)}) {
+        item.solid.emplace_back(corner.x, corner.y, leg, leg);
+      }
+    } else {
+      item.solid.push_back(*top);
+    }
+    // Chairs tuck under a table on legs.
+    const int tuck = legs ? cells_.Cells(0.2) : 0;
+    const bool long_x = top->width >= top->height;
+    const int seat_spacing = cells_.Cells(0.7);
+    for (Side side : long_x ? std::array<Side, 2>{Side::kBottom, Side::kTop}
+                            : std::array<Side, 2>{Side::kLeft, Side::kRight}) {
+      AddChairsAlong(*top, side, seat_spacing, tuck, options, rng, &item);
+    }
+    return item;
+  }
+
+  // A round pot against a wall, often in a corner.
+  Item Plant(Rng& rng) const {
+    const cv::Rect& in = room_.interior;
+    const int size = cells_.Cells(rng.Real(0.3, 0.6));
+    const int offset = rng.Int(0, cells_.Cells(0.1));
+    const bool corner = rng.Chance(0.5);
+    const Side side = static_cast<Side>(rng.Int(0, 3));
+    const bool along_x = RunsAlongX(side);
+    const Interval along = AlongInterval(in, along_x);
+    const int slack = std::max(0, along.size - size - 2 * offset);
+    const int position =
+        along.start + offset + (corner ? (rng.Chance(0.5) ? 0 : slack) : rng.Int(0, slack));
+    int across = 0;
+    switch (side) {
+      case Side::kBottom: across = in.y + offset; break;
+      case Side::kTop: across = in.y + in.height - offset - size; break;
+      case Side::kLeft: across = in.x + offset; break;
+      case Side::kRight: across = in.x + in.width - offset - size; break;
+    }
+    const cv::Rect pot = RowRect(along_x, {position, size}, {across, size});
+    return Item{{}, {pot}, double(pot.area())};
+  }
+
+  // Parallel rows of shelving along the hall's long axis, aisles between
+  // them and cross aisles cutting the rows into sections.
+  void AddShelvingRows(Rng& rng) {
+    const cv::Rect& in = room_.interior;
+    const bool long_x = in.width >= in.height;
+    const int perimeter = cells_.Cells(kShelvingPerimeterAisle_m);
+    const Interval along = AlongInterval(in, long_x);
+    const Interval across = AlongInterval(in, !long_x);
+    const int row_depth = cells_.Cells(rng.Real(0.9, 1.2));
+    const int aisle = cells_.Cells(rng.Real(1.6, 2.4));
+    for (int row = across.start + perimeter; row + row_depth <= across.end() - perimeter;
+         row += row_depth + aisle) {
+      for (int start = along.start + perimeter; start < along.end() - perimeter;) {
+        const int length =
+            std::min(cells_.Cells(rng.Real(8.0, 16.0)), along.end() - perimeter - start);
+        if (length >= cells_.Cells(1.5)) {
+          const cv::Rect section = RowRect(long_x, {start, length}, {row, row_depth});
+          Accept(Item{{section}, {}, double(section.area())});
+        }
+        start += length + cells_.Cells(rng.Real(2.0, 3.0));
+      }
+    }
+  }
+
+  void Draw(const Item& item, cv::Mat& mask, uint8_t value) const {
+    for (const cv::Rect& part : item.solid) mask(Local(part)).setTo(value);
+    for (const cv::Rect& part : item.round) {
+      const cv::Mat blob = cv::getStructuringElement(cv::MORPH_ELLIPSE, part.size());
+      mask(Local(part)).setTo(value, blob);
+    }
+  }
+
   // Keeps the piece if it overlaps nothing, leaves the doors clear and the
   // room passable: one connected passage region sweeping most of the floor.
-  bool Accept(const cv::Rect& rect) {
-    if ((rect & room_.interior) != rect || Blocked(rect) || InKeepClear(rect)) return false;
+  bool Accept(const Item& item) {
+    for (const auto* parts : {&item.solid, &item.round}) {
+      for (const cv::Rect& rect : *parts) {
+        if ((rect & room_.interior) != rect || Blocked(rect) || InKeepClear(rect)) return false;
+      }
+    }
     cv::Mat trial = free_.clone();
-    trial(Local(rect)).setTo(0);
+    Draw(item, trial, 0);
     cv::Mat passage;
     cv::erode(trial, passage, disk_, {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     cv::Mat components;
@@ -702,24 +1041,215 @@ class RoomFurnisher {
     const cv::Mat floor = trial & interior_mask_;
     const int floor_cells = cv::countNonZero(floor);
     const int swept_cells = cv::countNonZero(swept & floor);
-    if (swept_cells < kMinRoomCoverage * floor_cells) return false;
+    if (swept_cells < coverage_min_ * floor_cells) return false;
     free_ = trial;
+    Draw(item, furniture_, 255);
+    footprint_cells_ += item.footprint_cells;
     return true;
   }
 
   const Room& room_;
   const CellSizes& cells_;
   const cv::Mat& disk_;
+  double coverage_min_;
   cv::Rect frame_;
   cv::Mat free_;           // frame cells free for the robot (room, doors, corridor patches)
   cv::Mat interior_mask_;  // frame cells inside the room
+  cv::Mat furniture_;      // frame cells under furniture
   std::vector<cv::Rect> keep_clear_;
   std::vector<cv::Rect> pieces_;
+  double floor_cells_ = 0.0;
+  double footprint_cells_ = 0.0;
 };
 
-cv::Mat PassageDisk(const CellSizes& cells) {
-  const int radius = cells.Cells(kPassageRadius_m);
+cv::Mat DiskElement(int radius) {
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * radius + 1, 2 * radius + 1});
+}
+
+// ---------------------------------------------------------------------------
+// Texture of the cluttered styles: niches, cut corners, ragged walls, speckle
+
+// Any option that changes the drawn walls or adds texture.
+bool Textured(const WorldgenOptions& o) {
+  return o.alcove_probability > 0.0 || o.dead_end_probability > 0.0 ||
+         o.corner_cut_probability > 0.0 || o.ragged_edge_probability > 0.0 ||
+         o.speckle_per_m2 > 0.0 || o.clutter_fill > 0.0;
+}
+
+bool AllLabelled(const cv::Mat& labels, const cv::Rect& rect, uint8_t label) {
+  const cv::Rect inside = rect & cv::Rect(0, 0, labels.cols, labels.rows);
+  return inside == rect && cv::countNonZero(labels(rect) != label) == 0;
+}
+
+// Alcoves (a shallow niche) and dead ends (a corridor stub) taken from a
+// room's corner along a wall with a door, opening onto the corridor behind.
+void CarveNiches(const WorldgenOptions& options, const CellSizes& cells, Rng& rng, Layout* layout,
+                 cv::Mat& labels) {
+  const int wall = cells.wall;
+  for (Room& room : layout->rooms) {
+    if (room.kind == RoomKind::kHall || room.doors.empty()) continue;
+    const bool dead_end = rng.Chance(options.dead_end_probability);
+    const bool alcove = !dead_end && rng.Chance(options.alcove_probability);
+    if (!dead_end && !alcove) continue;
+    const Side side = room.doors[rng.Int(0, static_cast<int>(room.doors.size()) - 1)].side;
+    const bool along_x = RunsAlongX(side);
+    const Interval along = AlongInterval(room.interior, along_x);
+    const Interval across = AlongInterval(room.interior, !along_x);
+    const int width = cells.Cells(dead_end ? rng.Real(1.0, 1.4) : rng.Real(1.0, 2.2));
+    int depth = cells.Cells(dead_end ? rng.Real(2.0, 4.0) : rng.Real(0.6, 1.4));
+    const bool at_start = rng.Chance(0.5);  // the corner at the wall's start or end
+    depth = std::min(depth, across.size - wall - cells.Cells(1.5));
+    if (depth < cells.Cells(dead_end ? 2.0 : 0.6) || width + wall > along.size - cells.Cells(1.5)) {
+      continue;
+    }
+    const int position = at_start ? along.start : along.end() - width;
+    const bool inward_up = side == Side::kBottom || side == Side::kLeft;
+    const int face = inward_up ? across.start : across.end();  // the wall's inner face
+    const Interval niche_across = inward_up ? Interval{face, depth} : Interval{face - depth, depth};
+    const Interval back_across =
+        inward_up ? Interval{face + depth, wall} : Interval{face - depth - wall, wall};
+    const Interval mouth_across = inward_up ? Interval{face - wall, wall} : Interval{face, wall};
+    const Interval behind_across =
+        inward_up ? Interval{face - wall - 1, 1} : Interval{face + wall, 1};
+    const Interval side_wall_along =
+        at_start ? Interval{position + width, wall} : Interval{position - wall, wall};
+    const Interval with_wall_along{at_start ? position : position - wall, width + wall};
+    const Interval whole_across{std::min(niche_across.start, back_across.start), depth + wall};
+    const cv::Rect cut = RowRect(along_x, with_wall_along, whole_across);
+    // Only onto free floor behind the wall, and well away from every door.
+    if (!AllLabelled(labels, RowRect(along_x, {position, width}, behind_across), kFreeLabel)) {
+      continue;
+    }
+    const int keep = cells.Cells(kDoorKeepClearDepth_m);
+    const cv::Rect keep_zone(cut.x - keep, cut.y - keep, cut.width + 2 * keep,
+                             cut.height + 2 * keep);
+    bool near_door = false;
+    for (const Door& door : room.doors) near_door |= (door.opening & keep_zone).area() > 0;
+    if (near_door || !AllLabelled(labels, cut, kFreeLabel)) continue;
+
+    labels(RowRect(along_x, {position, width}, niche_across)).setTo(kFreeLabel);
+    labels(RowRect(along_x, {position, width}, mouth_across)).setTo(kFreeLabel);
+    labels(RowRect(along_x, with_wall_along, back_across)).setTo(kWallLabel);
+    labels(RowRect(along_x, side_wall_along, whole_across)).setTo(kWallLabel);
+    room.cut_outs.push_back(cut);
+  }
+}
+
+// Room corners cut off by a diagonal wall; the two legs differ, so the cut
+// is at an angle other than 45 degrees as often as not.
+void CutCorners(const WorldgenOptions& options, const CellSizes& cells, Rng& rng,
+                const Layout& layout, cv::Mat& labels) {
+  for (const Room& room : layout.rooms) {
+    const cv::Rect& in = room.interior;
+    for (int corner = 0; corner < 4; ++corner) {
+      if (!rng.Chance(options.corner_cut_probability)) continue;
+      const int leg_x = cells.Cells(rng.Real(0.8, 2.2));
+      const int leg_y = cells.Cells(rng.Real(0.8, 2.2));
+      if (3 * leg_x > in.width || 3 * leg_y > in.height) continue;
+      const bool right = corner & 1, top = corner & 2;
+      const cv::Point apex(right ? in.x + in.width - 1 : in.x, top ? in.y + in.height - 1 : in.y);
+      const cv::Point along_x(apex.x + (right ? -leg_x : leg_x), apex.y);
+      const cv::Point along_y(apex.x, apex.y + (top ? -leg_y : leg_y));
+      const cv::Rect box = cv::boundingRect(std::vector<cv::Point>{apex, along_x, along_y});
+      const int keep = cells.Cells(kDoorKeepClearDepth_m);
+      const cv::Rect keep_zone(box.x - keep, box.y - keep, box.width + 2 * keep,
+                               box.height + 2 * keep);
+      bool clear = AllLabelled(labels, box, kFreeLabel);
+      for (const Door& door : room.doors) clear &= (door.opening & keep_zone).area() == 0;
+      for (const cv::Rect& cut : room.cut_outs) clear &= (cut & keep_zone).area() == 0;
+      if (!clear) continue;
+      const std::vector<cv::Point> triangle{apex, along_x, along_y};
+      cv::fillConvexPoly(labels, triangle, cv::Scalar(kWallLabel), cv::LINE_8);
+    }
+  }
+}
+
+// Per-cell noise smoothed over a few cells, and its `share` quantile: cells
+// below it come in runs along a wall, as in a lidar-made map.
+cv::Mat SmoothNoise(cv::Size size, Rng& rng) {
+  cv::Mat noise(size, CV_32F);
+  for (int row = 0; row < size.height; ++row) {
+    float* line = noise.ptr<float>(row);
+    for (int col = 0; col < size.width; ++col) line[col] = static_cast<float>(rng.Unit());
+  }
+  cv::GaussianBlur(noise, noise, {0, 0}, 1.5);
+  return noise;
+}
+
+float Quantile(const cv::Mat& noise, double share) {
+  std::vector<float> values(noise.begin<float>(), noise.end<float>());
+  const std::size_t index =
+      std::min(values.size() - 1, static_cast<std::size_t>(std::max(0.0, share) * values.size()));
+  std::nth_element(values.begin(), values.begin() + index, values.end());
+  return values[index];
+}
+
+// Wall faces pushed into the room by one or two cells and the building's
+// outer face by one cell either way; never inside `keep`.
+void RaggedEdges(const WorldgenOptions& options, Rng& rng, const cv::Mat& keep, cv::Mat& labels) {
+  const cv::Mat noise = SmoothNoise(labels.size(), rng);
+  const double share = options.ragged_edge_probability;
+  const float one_cell = Quantile(noise, share), two_cells = Quantile(noise, share / 3.0);
+  const float indent = Quantile(noise, 1.0 - share / 2.0);
+  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, {3, 3});
+  const cv::Mat wall = labels == kWallLabel, free = labels == kFreeLabel;
+  cv::Mat near_wall, first, near_first;
+  cv::dilate(wall, near_wall, cross);
+  first = free & near_wall & (noise < one_cell) & ~keep;
+  cv::dilate(first, near_first, cross);
+  const cv::Mat second = free & ~first & near_first & (noise < two_cells) & ~keep;
+  const cv::Mat outside = labels == kOutsideLabel;
+  cv::Mat near_outside;
+  cv::dilate(outside, near_outside, cross);
+  const cv::Mat bulge = outside & near_wall & (noise < one_cell);
+  const cv::Mat dent = wall & near_outside & (noise > indent);
+  labels.setTo(kWallLabel, first | second | bulge);
+  labels.setTo(kOutsideLabel, dent);
+}
+
+// Isolated occupied cells (some in pairs) one or two cells off walls and
+// furniture, never inside `keep`.
+void Speckle(const WorldgenOptions& options, const CellSizes& cells, Rng& rng,
+             const cv::Rect& building, const cv::Mat& keep, cv::Mat& labels) {
+  cv::Mat distance;
+  cv::distanceTransform(labels == kFreeLabel, distance, cv::DIST_C, 3);
+  const auto candidate = [&](cv::Point cell) {
+    const float d = distance.at<float>(cell);
+    return d >= 2.0f && d <= 3.0f && !keep.at<uint8_t>(cell) &&
+           labels.at<uint8_t>(cell) == kFreeLabel;
+  };
+  const double floor_m2 = cells.SquareMeters(cv::countNonZero(labels == kFreeLabel));
+  const int count = static_cast<int>(std::lround(options.speckle_per_m2 * floor_m2));
+  int placed = 0;
+  for (int attempt = 0; attempt < 200 * count && placed < count; ++attempt) {
+    const cv::Point cell(rng.Int(building.x, building.x + building.width - 1),
+                         rng.Int(building.y, building.y + building.height - 1));
+    if (!candidate(cell)) continue;
+    const cv::Point pair = cell + cv::Point(rng.Int(0, 1), 0) + cv::Point(0, rng.Int(0, 1));
+    labels.at<uint8_t>(cell) = kSpeckleLabel;
+    if (rng.Chance(0.3) && candidate(pair)) labels.at<uint8_t>(pair) = kSpeckleLabel;
+    ++placed;
+  }
+}
+
+// Free space a disk `radius` cells wide cannot reach from `start` (behind a
+// gap narrower than the robot) is filled solid; the floor under tables
+// and between chair legs, which no disk centre sweeps, stays free.
+void FillRobotPockets(int radius, cv::Point start, cv::Mat& labels) {
+  const cv::Mat disk = DiskElement(radius);
+  cv::Mat centres;
+  cv::erode(labels == kFreeLabel, centres, disk, {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  if (!centres.at<uint8_t>(start)) return;
+  cv::Mat reached = centres.clone();
+  cv::floodFill(reached, start, cv::Scalar(128), nullptr, cv::Scalar(), cv::Scalar(), 8);
+  cv::Mat swept_from_start, swept_elsewhere;
+  cv::dilate(reached == 128, swept_from_start, disk);
+  cv::dilate(reached == 255, swept_elsewhere, disk);
+  labels.setTo(kWallLabel, (labels == kFreeLabel) & swept_elsewhere & ~swept_from_start);
+}
+
+cv::Mat PassageDisk(const WorldgenOptions& options, const CellSizes& cells) {
+  return DiskElement(cells.Cells(options.passage_width_m / 2.0));
 }
 
 // ---------------------------------------------------------------------------
@@ -783,22 +1313,64 @@ std::optional<GeneratedWorld> BuildWorld(int width, int height, const WorldgenOp
     for (const Door& door : room.doors) labels(door.opening).setTo(kFreeLabel);
   }
 
-  // Furniture draws come from their own stream so they never shift the layout.
-  Rng furniture_rng(options.seed ^ 0x9e3779b97f4a7c15ULL);
-  for (const Room& room : layout->rooms) {
-    RoomFurnisher furnisher(room, cells, disk);
-    const double fill = options.furniture_fill * FillFactor(room.kind);
-    for (const cv::Rect& piece : furnisher.Furnish(fill, furniture_rng)) {
-      labels(piece).setTo(kFurnitureLabel);
-    }
-  }
-
   // Start at the corridor crossing nearest the building's centre.
   const cv::Point centre(layout->building.x + width / 2, layout->building.y + height / 2);
   cv::Point start_cell = layout->crossings.front();
   for (const cv::Point& crossing : layout->crossings) {
     const cv::Point d = crossing - centre, best = start_cell - centre;
     if (d.dot(d) < best.dot(best)) start_cell = crossing;
+  }
+
+  // Texture draws come from a third stream, used only by the textured styles.
+  const bool textured = Textured(options);
+  Rng texture_rng(options.seed ^ 0xd1b54a32d192ed03ULL);
+  cv::Mat near_doors, around_doors;  // door openings grown by one cell and by a metre
+  if (textured) {
+    cv::Mat openings = cv::Mat::zeros(labels.size(), CV_8U);
+    for (const Room& room : layout->rooms) {
+      for (const Door& door : room.doors) openings(door.opening).setTo(255);
+    }
+    cv::dilate(openings, near_doors, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    cv::dilate(openings, around_doors, DiskElement(cells.Cells(1.0)));
+    const cv::Mat start_zone = cv::Mat::zeros(labels.size(), CV_8U);
+    cv::circle(start_zone, start_cell, cells.Cells(1.0), cv::Scalar(255), cv::FILLED);
+    near_doors |= start_zone;
+    around_doors |= start_zone;
+    CarveNiches(options, cells, texture_rng, &*layout, labels);
+    CutCorners(options, cells, texture_rng, *layout, labels);
+  }
+
+  // Furniture draws come from their own stream so they never shift the layout.
+  Rng furniture_rng(options.seed ^ 0x9e3779b97f4a7c15ULL);
+  double floor_cells = 0.0, footprint_cells = 0.0;
+  for (const Room& room : layout->rooms) {
+    RoomFurnisher furnisher(room, cells, disk, options.room_coverage_min,
+                            textured ? &labels : nullptr);
+    if (options.clutter_fill > 0.0) {
+      const bool shelving =
+          room.kind == RoomKind::kHall && furniture_rng.Chance(options.shelving_hall_probability);
+      furnisher.FurnishCluttered(options, shelving, furniture_rng);
+      furnisher.DrawFurniture(labels);
+      floor_cells += furnisher.floor_cells();
+      footprint_cells += furnisher.footprint_cells();
+      continue;
+    }
+    const double fill = options.furniture_fill * FillFactor(room.kind);
+    for (const cv::Rect& piece : furnisher.Furnish(fill, furniture_rng)) {
+      labels(piece).setTo(kFurnitureLabel);
+    }
+  }
+
+  // Ragged walls come after the furniture, which stands flush against the straight wall.
+  if (textured && options.ragged_edge_probability > 0.0) {
+    RaggedEdges(options, texture_rng, near_doors, labels);
+  }
+  if (textured && options.speckle_per_m2 > 0.0) {
+    Rng speckle_rng(options.seed ^ 0x94d049bb133111ebULL);
+    Speckle(options, cells, speckle_rng, layout->building, around_doors, labels);
+  }
+  if (options.robot_width_m > 0.0) {
+    FillRobotPockets(cells.Cells(options.robot_width_m / 2.0), start_cell, labels);
   }
 
   // Free space the robot cannot reach from the start is filled solid.
@@ -819,6 +1391,28 @@ std::optional<GeneratedWorld> BuildWorld(int width, int height, const WorldgenOp
   world.corridors_x = layout->corridors_x;
   world.corridors_y = layout->corridors_y;
   world.loop_count = CountLoops(world.grid, kLoopObstacleMinSize_m);
+  for (const Room& room : layout->rooms) {
+    for (const Door& door : room.doors) {
+      const bool along_x = RunsAlongX(door.side);
+      const cv::Point middle(door.opening.x + door.opening.width / 2,
+                             door.opening.y + door.opening.height / 2);
+      const Point2d at = world.grid.CellCenter({middle.x, middle.y});
+      world.doors.push_back({at.x_m, at.y_m,
+                             cells.Meters(along_x ? door.opening.width : door.opening.height),
+                             along_x});
+    }
+  }
+  world.room_floor_area_m2 = cells.SquareMeters(floor_cells);
+  world.furniture_footprint_m2 = cells.SquareMeters(footprint_cells);
+  const cv::Mat furniture = labels == kFurnitureLabel;
+  world.furniture_area_m2 = cells.SquareMeters(cv::countNonZero(furniture));
+  world.furniture_cells.assign(furniture.total(), 0);
+  for (int row = 0; row < furniture.rows; ++row) {
+    for (int col = 0; col < furniture.cols; ++col) {
+      world.furniture_cells[std::size_t(row) * furniture.cols + col] =
+          furniture.at<uint8_t>(row, col) ? 1 : 0;
+    }
+  }
   return world;
 }
 
@@ -841,8 +1435,8 @@ void Validate(const WorldgenOptions& o) {
   Require(o.margin_m >= 0.0, "margin_m", o.margin_m, "must not be negative");
   Require(o.corridor_width_m >= 1.2, "corridor_width_m", o.corridor_width_m,
           "must be at least 1.2 m (start clearance 0.6 m)");
-  Require(o.door_width_min_m >= 1.0, "door_width_min_m", o.door_width_min_m,
-          "must be at least 1.0 m");
+  Require(o.door_width_min_m >= 0.7 - 1e-9, "door_width_min_m", o.door_width_min_m,
+          "must be at least 0.7 m");
   Require(o.door_width_max_m >= o.door_width_min_m, "door_width_max_m", o.door_width_max_m,
           "must be at least door_width_min_m");
   Require(o.room_width_min_m >= o.door_width_max_m + 2 * kDoorInset_m, "room_width_min_m",
@@ -868,9 +1462,33 @@ void Validate(const WorldgenOptions& o) {
         {"side_door_probability", o.side_door_probability},
         {"hall_probability", o.hall_probability},
         {"join_blocks_probability", o.join_blocks_probability},
-        {"furniture_fill", o.furniture_fill}}) {
+        {"furniture_fill", o.furniture_fill},
+        {"clutter_fill", o.clutter_fill},
+        {"table_legs_probability", o.table_legs_probability},
+        {"chair_legs_probability", o.chair_legs_probability},
+        {"shelving_hall_probability", o.shelving_hall_probability},
+        {"alcove_probability", o.alcove_probability},
+        {"dead_end_probability", o.dead_end_probability},
+        {"corner_cut_probability", o.corner_cut_probability},
+        {"ragged_edge_probability", o.ragged_edge_probability}}) {
     Require(value >= 0.0 && value <= 1.0, name, value, "must be in [0, 1]");
   }
+  Require(o.passage_width_m >= 0.4 && o.passage_width_m <= o.door_width_min_m - 0.1 + 1e-9,
+          "passage_width_m", o.passage_width_m,
+          "must be in [0.4 m, door_width_min_m - 0.1 m] so every door passes it");
+  Require(o.room_coverage_min >= 0.5 && o.room_coverage_min <= 1.0, "room_coverage_min",
+          o.room_coverage_min, "must be in [0.5, 1]");
+  Require(o.chairs_per_desk >= 0.0 && o.chairs_per_desk <= 4.0, "chairs_per_desk",
+          o.chairs_per_desk, "must be in [0, 4]");
+  Require(o.plants_per_100m2 >= 0.0 && o.plants_per_100m2 <= 20.0, "plants_per_100m2",
+          o.plants_per_100m2, "must be in [0, 20]");
+  Require(o.speckle_per_m2 >= 0.0 && o.speckle_per_m2 <= 2.0, "speckle_per_m2", o.speckle_per_m2,
+          "must be in [0, 2]");
+  Require(o.hall_door_spacing_m == 0.0 || o.hall_door_spacing_m >= 4.0, "hall_door_spacing_m",
+          o.hall_door_spacing_m, "must be 0 (one door per hall side) or at least 4 m");
+  Require(o.robot_width_m == 0.0 ||
+              (o.robot_width_m >= 0.3 && o.robot_width_m <= o.passage_width_m + 1e-9),
+          "robot_width_m", o.robot_width_m, "must be 0 (off) or in [0.3 m, passage_width_m]");
 }
 
 std::string FormatNumber(double value) {
@@ -886,7 +1504,10 @@ WorldStyle ParseWorldStyle(const std::string& text) {
   if (text == "campus") return WorldStyle::kCampus;
   if (text == "office") return WorldStyle::kOffice;
   if (text == "test") return WorldStyle::kTest;
-  throw std::invalid_argument("unknown world style '" + text + "' (campus, office or test)");
+  if (text == "cluttered_office") return WorldStyle::kClutteredOffice;
+  if (text == "warehouse") return WorldStyle::kWarehouse;
+  throw std::invalid_argument("unknown world style '" + text +
+                              "' (campus, office, test, cluttered_office or warehouse)");
 }
 
 std::string WorldStyleName(WorldStyle style) {
@@ -894,6 +1515,8 @@ std::string WorldStyleName(WorldStyle style) {
     case WorldStyle::kCampus: return "campus";
     case WorldStyle::kOffice: return "office";
     case WorldStyle::kTest: return "test";
+    case WorldStyle::kClutteredOffice: return "cluttered_office";
+    case WorldStyle::kWarehouse: return "warehouse";
   }
   return "office";
 }
@@ -954,6 +1577,73 @@ WorldgenOptions DefaultWorldgenOptions(WorldStyle style) {
       options.hall_probability = 0.0;
       options.furniture_fill = 0.15;
       break;
+    case WorldStyle::kClutteredOffice:
+      options.target_free_area_m2 = 1500.0;
+      options.corridor_width_m = 1.6;
+      options.door_width_min_m = 0.7;
+      options.door_width_max_m = 0.9;
+      options.room_width_min_m = 3.0;
+      options.room_width_max_m = 5.5;
+      options.room_depth_min_m = 3.5;
+      options.room_depth_max_m = 5.5;
+      options.block_length_m = 16.0;
+      options.aspect_ratio = 1.4;
+      options.outer_rooms_probability = 0.6;
+      options.open_plan_probability = 0.35;
+      options.through_room_probability = 0.1;
+      options.side_door_probability = 0.25;
+      options.hall_probability = 0.25;  // open-plan floors with desk clusters
+      options.join_blocks_probability = 0.25;
+      options.furniture_fill = 0.0;
+      options.passage_width_m = 0.6;
+      options.room_coverage_min = 0.85;
+      options.clutter_fill = 0.22;
+      options.table_legs_probability = 0.7;
+      options.chairs_per_desk = 1.0;
+      options.chair_legs_probability = 0.3;
+      options.plants_per_100m2 = 1.5;
+      options.hall_door_spacing_m = 8.0;
+      options.alcove_probability = 0.15;
+      options.dead_end_probability = 0.1;
+      options.corner_cut_probability = 0.06;
+      options.ragged_edge_probability = 0.35;
+      options.speckle_per_m2 = 0.15;
+      options.robot_width_m = 0.5;
+      break;
+    case WorldStyle::kWarehouse:
+      options.target_free_area_m2 = 2500.0;
+      options.corridor_width_m = 2.6;  // main aisles
+      options.door_width_min_m = 0.8;
+      options.door_width_max_m = 1.0;
+      options.room_width_min_m = 3.5;
+      options.room_width_max_m = 6.0;
+      options.room_depth_min_m = 5.0;
+      options.room_depth_max_m = 9.0;
+      options.block_length_m = 22.0;
+      options.aspect_ratio = 1.3;
+      options.outer_rooms_probability = 0.5;
+      options.open_plan_probability = 0.3;
+      options.through_room_probability = 0.15;
+      options.side_door_probability = 0.25;
+      options.hall_probability = 0.7;
+      options.join_blocks_probability = 0.3;
+      options.furniture_fill = 0.0;
+      options.passage_width_m = 0.6;
+      options.room_coverage_min = 0.8;
+      options.clutter_fill = 0.2;
+      options.table_legs_probability = 0.6;
+      options.chairs_per_desk = 0.6;
+      options.chair_legs_probability = 0.3;
+      options.plants_per_100m2 = 0.3;
+      options.shelving_hall_probability = 0.8;
+      options.hall_door_spacing_m = 7.0;
+      options.alcove_probability = 0.1;
+      options.dead_end_probability = 0.1;
+      options.corner_cut_probability = 0.05;
+      options.ragged_edge_probability = 0.4;
+      options.speckle_per_m2 = 0.2;
+      options.robot_width_m = 0.5;
+      break;
   }
   return options;
 }
@@ -961,7 +1651,7 @@ WorldgenOptions DefaultWorldgenOptions(WorldStyle style) {
 GeneratedWorld GenerateWorld(const WorldgenOptions& options) {
   Validate(options);
   const CellSizes cells(options);
-  const cv::Mat disk = PassageDisk(cells);
+  const cv::Mat disk = PassageDisk(options, cells);
   const double target = options.target_free_area_m2;
 
   // Search the building width (height follows the aspect ratio): scale by
@@ -1102,6 +1792,26 @@ void WriteWorld(const GeneratedWorld& world, const WorldgenOptions& options,
       {"join_blocks_probability", options.join_blocks_probability},
       {"furniture_fill", options.furniture_fill}};
   for (const auto& [key, value] : variety) yaml << YAML::Key << key << YAML::Value << value;
+  // Absent in worlds written before these options existed: there they were off.
+  if (Textured(options)) {
+    const std::vector<std::pair<const char*, double>> clutter = {
+        {"passage_width_m", options.passage_width_m},
+        {"room_coverage_min", options.room_coverage_min},
+        {"clutter_fill", options.clutter_fill},
+        {"table_legs_probability", options.table_legs_probability},
+        {"chairs_per_desk", options.chairs_per_desk},
+        {"chair_legs_probability", options.chair_legs_probability},
+        {"plants_per_100m2", options.plants_per_100m2},
+        {"shelving_hall_probability", options.shelving_hall_probability},
+        {"hall_door_spacing_m", options.hall_door_spacing_m},
+        {"alcove_probability", options.alcove_probability},
+        {"dead_end_probability", options.dead_end_probability},
+        {"corner_cut_probability", options.corner_cut_probability},
+        {"ragged_edge_probability", options.ragged_edge_probability},
+        {"speckle_per_m2", options.speckle_per_m2},
+        {"robot_width_m", options.robot_width_m}};
+    for (const auto& [key, value] : clutter) yaml << YAML::Key << key << YAML::Value << value;
+  }
   yaml << YAML::EndMap << YAML::EndMap;
 
   const fs::path world_path = dir / "world.yaml";
@@ -1136,8 +1846,19 @@ void WriteWorld(const GeneratedWorld& world, const WorldgenOptions& options,
          << " rad (clearance " << FormatNumber(world.start_clearance_m) << " m) |\n\n"
          << "Walls " << FormatNumber(options.wall_thickness_m) << " m, doors "
          << FormatNumber(options.door_width_min_m) << "–" << FormatNumber(options.door_width_max_m)
-         << " m; free 0, walls and furniture 100, outside the building unknown.\n\n"
-         << "Regenerate (from the repository root, with the built tool on the PATH):\n\n"
+         << " m; free 0, walls and furniture 100, outside the building unknown.\n\n";
+  if (Textured(options)) {
+    readme << "Clutter and lidar-map texture: furniture stands on "
+           << FormatNumber(std::round(world.furniture_footprint_m2)) << " m² of "
+           << FormatNumber(std::round(world.room_floor_area_m2))
+           << " m² of room floor (tables on legs and chairs counted whole; "
+           << FormatNumber(std::round(world.furniture_area_m2))
+           << " m² of it occupied cells); doors, alcoves, dead ends, cut corners, ragged walls "
+              "and speckle as in `generator`. Free space a "
+           << FormatNumber(options.robot_width_m)
+           << " m wide disk cannot reach from the start is filled solid.\n\n";
+  }
+  readme << "Regenerate (from the repository root, with the built tool on the PATH):\n\n"
          << "    " << regenerate_command << "\n";
   readme.close();
   if (!readme) throw std::runtime_error(readme_path.string() + ": cannot write");

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "common/map_io.h"
 #include "common/occupancy_grid.h"
@@ -22,9 +23,13 @@ enum class WorldStyle {
   kCampus,  // large building: long corridors, many rooms, halls, several loops
   kOffice,  // one office floor
   kTest,    // a ring corridor around one block of rooms: small, fast, one loop
+  // Realistic clutter and lidar-map texture (the options in "Realistic clutter" below):
+  kClutteredOffice,  // narrow doors, open-plan areas, desks, chairs, tables on legs, plants
+  kWarehouse,        // wide aisles, halls of shelving rows, cluttered side rooms
 };
 
-// "campus", "office" or "test"; throws std::invalid_argument otherwise.
+// "campus", "office", "test", "cluttered_office" or "warehouse"; throws
+// std::invalid_argument otherwise.
 WorldStyle ParseWorldStyle(const std::string& text);
 std::string WorldStyleName(WorldStyle style);
 
@@ -60,10 +65,36 @@ struct WorldgenOptions {
   double hall_probability = 0.0;          // a whole block is one open hall with four doors
   double join_blocks_probability = 0.0;  // a cross corridor segment is left out, joining two blocks
   double furniture_fill = 0.15;          // target fraction of a room's floor under furniture
+  double passage_width_m = 0.9;          // furniture leaves every room passable at this width
+  double room_coverage_min = 0.9;        // ... and sweepable over this share of its floor
+
+  // Realistic clutter and texture; every default is "off" (the campus, office
+  // and test styles), so those styles draw exactly as before.
+  double clutter_fill = 0.0;  // > 0: cluttered furnishing, this floor share (not furniture_fill)
+  double table_legs_probability = 0.0;     // a table is drawn as its four legs (what a lidar sees)
+  double chairs_per_desk = 0.0;            // mean chairs beside each desk or table
+  double chair_legs_probability = 0.0;     // a chair is four legs rather than a round blob
+  double plants_per_100m2 = 0.0;           // small round pots along the walls of rooms
+  double shelving_hall_probability = 0.0;  // a hall is filled with rows of shelving
+  double hall_door_spacing_m = 0.0;        // > 0: a hall side gets a door per this length (0: one)
+  double alcove_probability = 0.0;         // a room gives up a corner as a niche off the corridor
+  double dead_end_probability = 0.0;       // a room gives up a strip as a dead-end corridor stub
+  double corner_cut_probability = 0.0;     // a room corner is cut off by a diagonal wall
+  double ragged_edge_probability = 0.0;    // share of wall faces pushed out by 1-2 cells
+  double speckle_per_m2 = 0.0;             // isolated occupied cells near walls, per m2 of floor
+  double robot_width_m = 0.0;  // > 0: free space a disk this wide cannot reach is filled solid
 };
 
 // The options of a style; the caller sets target area and seed.
 WorldgenOptions DefaultWorldgenOptions(WorldStyle style);
+
+// A door opening: its centre and the direction of the wall it is in.
+struct DoorOpening {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double width_m = 0.0;
+  bool wall_along_x = true;
+};
 
 struct GeneratedWorld {
   OccupancyGrid grid;  // 0 free, 100 walls and furniture, -1 outside the building
@@ -75,8 +106,13 @@ struct GeneratedWorld {
   int room_count = 0;
   int corridors_x = 0;
   int corridors_y = 0;
-  int loop_count = 0;       // CountLoops(grid, kLoopObstacleMinSize_m)
-  int layout_attempts = 0;  // building sizes tried to meet the target area
+  int loop_count = 0;                    // CountLoops(grid, kLoopObstacleMinSize_m)
+  int layout_attempts = 0;               // building sizes tried to meet the target area
+  std::vector<DoorOpening> doors;        // room and hall doors
+  double room_floor_area_m2 = 0.0;       // rooms' floor before furniture (cluttered styles)
+  double furniture_footprint_m2 = 0.0;   // floor under furniture, tables and chairs whole
+  double furniture_area_m2 = 0.0;        // occupied furniture cells (a table: its legs)
+  std::vector<uint8_t> furniture_cells;  // per grid cell (row-major), 1 where furniture stands
 };
 
 // Obstacles a loop must go around to count: blocks of rooms, not furniture.

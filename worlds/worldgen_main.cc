@@ -16,7 +16,7 @@
 DEFINE_string(out, "", "world folder to write (created if missing)");
 DEFINE_double(free_area, 0.0, "target free area reachable from the start, m^2 (met within 3 %)");
 DEFINE_uint64(seed, 1, "random seed: the same flags give the same world");
-DEFINE_string(style, "office", "campus, office or test");
+DEFINE_string(style, "office", "campus, office, test, cluttered_office or warehouse");
 DEFINE_string(name, "", "world name (default: the last folder of --out)");
 
 namespace aslam {
@@ -63,7 +63,7 @@ int Run() {
 int main(int argc, char** argv) {
   aslam::ParseFlags(
       &argc, &argv,
-      "aslam-worldgen --out DIR --free-area M2 [--seed N] [--style campus|office|test] [--name "
+      "aslam-worldgen --out DIR --free-area M2 [--seed N] [--style STYLE] [--name "
       "NAME]\n"
       "Generates an office-like floor plan and writes DIR/map.yaml, DIR/map.pgm, DIR/world.yaml\n"
       "and DIR/README.md.");

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -125,6 +126,23 @@ void ExpectDrivableOfficeWorld(const OccupancyGrid& grid, const Pose2d& start,
   EXPECT_GE(LoopHoles(grid, kLoopObstacleMinSize_m), 1);
 }
 
+// The cluttered styles' rule: a 0.5 m wide disk (the Kobuki-size robot's
+// path) moves through one connected region from the start and sweeps at
+// least 80 % of the free area; legs and speckle may be single cells.
+void ExpectDrivableClutteredWorld(const OccupancyGrid& grid, const Pose2d& start,
+                                  const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_FALSE(grid.empty());
+  EXPECT_EQ(grid.resolution_m(), 0.05);
+  EXPECT_EQ(ReachableCells(grid, start), cv::countNonZero(FreeMask(grid)))
+      << "free cells the start cannot reach";
+  const PassageStats passage = Passage(grid, 0.25);
+  EXPECT_EQ(passage.components, 1) << "a 0.5 m disk cannot get everywhere it fits";
+  EXPECT_GE(passage.coverage, 0.8);
+  EXPECT_GE(StartClearance(grid, start), 0.6);
+  EXPECT_GE(LoopHoles(grid, kLoopObstacleMinSize_m), 1);
+}
+
 WorldgenOptions Options(WorldStyle style, double area_m2, uint64_t seed) {
   WorldgenOptions options = DefaultWorldgenOptions(style);
   options.target_free_area_m2 = area_m2;
@@ -193,12 +211,37 @@ TEST(WorldgenTest, CountLoopsCountsBlocksNotFurniture) {
 
 TEST(WorldgenTest, BadOptionsNameTheOption) {
   WorldgenOptions options = Options(WorldStyle::kOffice, 741.0, 1);
-  options.door_width_min_m = 0.8;
+  options.door_width_min_m = 0.6;
   try {
     GenerateWorld(options);
     FAIL() << "narrow doors accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("door_width_min_m = 0.8"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("door_width_min_m = 0.6"), std::string::npos) << e.what();
+  }
+  // The office's 0.9 m furniture passage does not fit through 0.8 m doors.
+  options.door_width_min_m = 0.8;
+  try {
+    GenerateWorld(options);
+    FAIL() << "a passage wider than the doors accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("passage_width_m = 0.9"), std::string::npos) << e.what();
+  }
+  for (const auto& [name, set] :
+       std::vector<std::pair<std::string, std::function<void(WorldgenOptions&)>>>{
+           {"clutter_fill = 1.5", [](WorldgenOptions& o) { o.clutter_fill = 1.5; }},
+           {"speckle_per_m2 = -1", [](WorldgenOptions& o) { o.speckle_per_m2 = -1.0; }},
+           {"ragged_edge_probability = 2",
+            [](WorldgenOptions& o) { o.ragged_edge_probability = 2; }},
+           {"robot_width_m = 0.8", [](WorldgenOptions& o) { o.robot_width_m = 0.8; }},
+           {"hall_door_spacing_m = 2", [](WorldgenOptions& o) { o.hall_door_spacing_m = 2.0; }}}) {
+    WorldgenOptions bad = Options(WorldStyle::kClutteredOffice, 400.0, 1);
+    set(bad);
+    try {
+      GenerateWorld(bad);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
   }
   EXPECT_THROW(GenerateWorld(Options(WorldStyle::kOffice, -5.0, 1)), std::invalid_argument);
   EXPECT_THROW(ParseWorldStyle("castle"), std::invalid_argument);
@@ -280,6 +323,7 @@ struct ShippedWorld {
   double documented_free_area_m2;  // 0: only the bound below applies
   double max_free_area_m2;
   int min_loops;
+  bool cluttered = false;  // checked with the cluttered styles' passage rule
 };
 
 void PrintTo(const ShippedWorld& world, std::ostream* os) { *os << world.name; }
@@ -298,7 +342,11 @@ TEST_P(ShippedWorldTest, LoadsWithDocumentedAreaAndRegenerates) {
                 0.03 * shipped.documented_free_area_m2);
   }
   EXPECT_LT(info.free_area_m2, shipped.max_free_area_m2);
-  ExpectDrivableOfficeWorld(grid, info.start, shipped.name);
+  if (shipped.cluttered) {
+    ExpectDrivableClutteredWorld(grid, info.start, shipped.name);
+  } else {
+    ExpectDrivableOfficeWorld(grid, info.start, shipped.name);
+  }
   EXPECT_GE(LoopHoles(grid, kLoopObstacleMinSize_m), shipped.min_loops);
 
   const YAML::Node generator = YAML::LoadFile(dir + "/world.yaml")["generator"];
@@ -315,11 +363,234 @@ TEST_P(ShippedWorldTest, LoadsWithDocumentedAreaAndRegenerates) {
   EXPECT_EQ(regenerated.grid.origin_m().y_m, grid.origin_m().y_m);
 }
 
-INSTANTIATE_TEST_SUITE_P(Worlds, ShippedWorldTest,
-                         ::testing::Values(ShippedWorld{"campus", 2072.0, 2200.0, 3},
-                                           ShippedWorld{"office", 741.0, 800.0, 1},
-                                           ShippedWorld{"test", 0.0, 150.0, 1}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Worlds, ShippedWorldTest,
+    ::testing::Values(ShippedWorld{"campus", 2072.0, 2200.0, 3},
+                      ShippedWorld{"office", 741.0, 800.0, 1}, ShippedWorld{"test", 0.0, 150.0, 1},
+                      ShippedWorld{"cluttered_office", 1500.0, 1600.0, 1, true},
+                      ShippedWorld{"warehouse_floor", 2500.0, 2700.0, 1, true}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+// ---------------------------------------------------------------------------
+// The cluttered styles, measured on the map.
+
+// Generated once per style: each takes about a second.
+const GeneratedWorld& ClutteredOffice() {
+  static const GeneratedWorld world =
+      GenerateWorld(Options(WorldStyle::kClutteredOffice, 1500.0, 2));
+  return world;
+}
+
+const GeneratedWorld& Warehouse() {
+  static const GeneratedWorld world = GenerateWorld(Options(WorldStyle::kWarehouse, 2500.0, 2));
+  return world;
+}
+
+cv::Mat OccupiedMask(const OccupancyGrid& grid) {
+  const cv::Mat cells(grid.height_cells(), grid.width_cells(), CV_8S,
+                      const_cast<int8_t*>(grid.cells().data()));
+  return cells == OccupancyGrid::kOccupied;
+}
+
+// Occupied pieces of at most `max_cells` cells: legs and speckle.
+struct SmallObstacle {
+  cv::Rect box;
+  bool isolated;  // nothing else occupied within 3 cells (0.15 m) of it
+};
+
+std::vector<SmallObstacle> SmallObstacles(const OccupancyGrid& grid, int max_cells) {
+  const cv::Mat occupied = OccupiedMask(grid);
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(occupied, labels, stats, centroids, 8);
+  std::vector<SmallObstacle> small;
+  for (int label = 1; label < count; ++label) {
+    if (stats.at<int>(label, cv::CC_STAT_AREA) > max_cells) continue;
+    const cv::Rect box(
+        stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+        stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    const cv::Rect ring = cv::Rect(box.x - 3, box.y - 3, box.width + 6, box.height + 6) &
+                          cv::Rect({}, occupied.size());
+    small.push_back({box, cv::countNonZero(occupied(ring)) == cv::countNonZero(occupied(box))});
+  }
+  return small;
+}
+
+TEST(ClutteredWorldgenTest, StylesMeetTheirAreaAndStayDrivableForTheRobot) {
+  for (const GeneratedWorld* world : {&ClutteredOffice(), &Warehouse()}) {
+    const double target = world == &ClutteredOffice() ? 1500.0 : 2500.0;
+    SCOPED_TRACE(target);
+    EXPECT_NEAR(world->free_area_m2, target, 0.03 * target);
+    EXPECT_DOUBLE_EQ(world->free_area_m2, FreeArea(world->grid));
+    ExpectDrivableClutteredWorld(world->grid, world->start, "cluttered");
+    EXPECT_GE(world->room_count, 15);
+  }
+}
+
+TEST(ClutteredWorldgenTest, RoomDoorsAreNarrowAndHallDoorsTwiceThat) {
+  const GeneratedWorld& world = ClutteredOffice();
+  const OccupancyGrid& grid = world.grid;
+  int room_doors = 0, measured = 0;
+  for (const DoorOpening& door : world.doors) {
+    const CellIndex centre = grid.WorldToCell({door.x_m, door.y_m});
+    if (grid.at(centre) != OccupancyGrid::kFree) continue;  // in a pocket filled solid
+    // The free run along the wall through the door's centre: the opening.
+    const int step_col = door.wall_along_x ? 1 : 0, step_row = door.wall_along_x ? 0 : 1;
+    int run = 1;
+    for (int sign : {-1, 1}) {
+      for (CellIndex cell{centre.col + sign * step_col, centre.row + sign * step_row};
+           grid.at(cell) == OccupancyGrid::kFree;
+           cell = {cell.col + sign * step_col, cell.row + sign * step_row}) {
+        ++run;
+      }
+    }
+    const double width_m = run * grid.resolution_m();
+    ++measured;
+    if (width_m <= 0.9 + 1e-9) {
+      EXPECT_GE(width_m, 0.7 - 1e-9) << "door at " << door.x_m << ", " << door.y_m;
+      ++room_doors;
+    } else {
+      EXPECT_GE(width_m, 1.4 - 1e-9) << "door at " << door.x_m << ", " << door.y_m;
+      EXPECT_LE(width_m, 1.8 + 1e-9) << "door at " << door.x_m << ", " << door.y_m;
+    }
+  }
+  EXPECT_GE(measured, 30);
+  EXPECT_GE(room_doors, 0.7 * measured);
+}
+
+TEST(ClutteredWorldgenTest, FurnitureCoversItsShareOfTheRooms) {
+  for (const GeneratedWorld* world : {&ClutteredOffice(), &Warehouse()}) {
+    const OccupancyGrid& grid = world->grid;
+    ASSERT_EQ(world->furniture_cells.size(), grid.cells().size());
+    int furniture = 0, furniture_not_occupied = 0;
+    for (std::size_t i = 0; i < grid.cells().size(); ++i) {
+      if (!world->furniture_cells[i]) continue;
+      ++furniture;
+      if (grid.cells()[i] != OccupancyGrid::kOccupied) ++furniture_not_occupied;
+    }
+    EXPECT_EQ(furniture_not_occupied, 0);
+    EXPECT_NEAR(furniture * 0.05 * 0.05, world->furniture_area_m2, 1e-6);
+    EXPECT_LE(world->furniture_area_m2, world->furniture_footprint_m2);
+    // clutter_fill 0.22 (office) and 0.2 (warehouse), scaled by room kind
+    // between 0.8 and 1.1, and by what fits; warehouse shelving adds more.
+    const double share = world->furniture_footprint_m2 / world->room_floor_area_m2;
+    EXPECT_GE(share, 0.12);
+    EXPECT_LE(share, 0.35);
+  }
+}
+
+TEST(ClutteredWorldgenTest, TablesAndChairsStandOnLegs) {
+  const std::vector<SmallObstacle> small = SmallObstacles(ClutteredOffice().grid, 4);
+  std::vector<cv::Rect> legs;
+  for (const SmallObstacle& obstacle : small) {
+    if (obstacle.isolated && obstacle.box.width <= 2 && obstacle.box.height <= 2) {
+      legs.push_back(obstacle.box);
+    }
+  }
+  EXPECT_GE(legs.size(), 40u);
+  // Legs stand in rectangles: most have another leg in the same row or
+  // column 0.3-2.5 m away.
+  int paired = 0;
+  for (const cv::Rect& leg : legs) {
+    for (const cv::Rect& other : legs) {
+      const int dx = std::abs(other.x - leg.x), dy = std::abs(other.y - leg.y);
+      if ((dx == 0 && dy >= 6 && dy <= 50) || (dy == 0 && dx >= 6 && dx <= 50)) {
+        ++paired;
+        break;
+      }
+    }
+  }
+  EXPECT_GE(paired, 0.7 * legs.size());
+}
+
+// Straight pieces of the free space's outline (polygon edges within 1.5
+// cells of it): the count of short ones (<= 0.15 m, steps of a ragged wall)
+// and of long ones at a slope (>= 1 m, 15 to 75 degrees off the axes).
+struct OutlineStats {
+  int short_steps = 0;
+  int angled = 0;
+};
+
+OutlineStats Outline(const OccupancyGrid& grid) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(FreeMask(grid), contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
+  OutlineStats stats;
+  for (const auto& contour : contours) {
+    std::vector<cv::Point> polygon;
+    cv::approxPolyDP(contour, polygon, 1.5, true);
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const cv::Point d = polygon[(i + 1) % polygon.size()] - polygon[i];
+      const double length_m = std::hypot(d.x, d.y) * grid.resolution_m();
+      const double degrees = std::atan2(std::abs(d.y), std::abs(d.x)) * 180.0 / M_PI;
+      if (length_m >= 1.0 && degrees >= 15.0 && degrees <= 75.0) ++stats.angled;
+      if (length_m <= 0.15) ++stats.short_steps;
+    }
+  }
+  return stats;
+}
+
+TEST(ClutteredWorldgenTest, MapHasSpeckleRaggedAndAngledWalls) {
+  // The clean office map for comparison: straight walls, no speckle.
+  const OccupancyGrid office = LoadWorld(std::string(ASLAM_SOURCE_DIR) + "/worlds/office").map.grid;
+  const OutlineStats clean = Outline(office);
+  EXPECT_EQ(clean.angled, 0);
+  const double clean_steps_per_m2 = clean.short_steps / FreeArea(office);
+  for (const GeneratedWorld* world : {&ClutteredOffice(), &Warehouse()}) {
+    const OccupancyGrid& grid = world->grid;
+    // Speckle: one- or two-cell obstacles alone in free space.
+    int speckle = 0;
+    const cv::Mat free = FreeMask(grid);
+    for (const SmallObstacle& obstacle : SmallObstacles(grid, 2)) {
+      const cv::Rect ring(obstacle.box.x - 1, obstacle.box.y - 1, obstacle.box.width + 2,
+                          obstacle.box.height + 2);
+      if (cv::countNonZero(free(ring)) == ring.area() - cv::countNonZero(~free(obstacle.box))) {
+        ++speckle;
+      }
+    }
+    EXPECT_GE(speckle, 0.05 * world->free_area_m2);
+
+    const OutlineStats outline = Outline(grid);
+    EXPECT_GE(outline.angled, 1) << "no wall at a slope";
+    EXPECT_GE(outline.short_steps / world->free_area_m2, 3.0 * clean_steps_per_m2)
+        << "walls no more ragged than the clean office's";
+  }
+}
+
+TEST(ClutteredWorldgenTest, SameSeedSameMapOtherSeedOtherMap) {
+  for (const auto& [style, area_m2] : std::vector<std::pair<WorldStyle, double>>{
+           {WorldStyle::kClutteredOffice, 500.0}, {WorldStyle::kWarehouse, 900.0}}) {
+    const GeneratedWorld a = GenerateWorld(Options(style, area_m2, 7));
+    const GeneratedWorld b = GenerateWorld(Options(style, area_m2, 7));
+    const GeneratedWorld c = GenerateWorld(Options(style, area_m2, 8));
+    EXPECT_EQ(a.grid.cells(), b.grid.cells());
+    EXPECT_EQ(a.start.x_m, b.start.x_m);
+    EXPECT_EQ(a.furniture_cells, b.furniture_cells);
+    EXPECT_NE(a.grid.cells(), c.grid.cells());
+    ExpectDrivableClutteredWorld(a.grid, a.start, WorldStyleName(style));
+  }
+}
+
+// The real maps from navigation2: they load, their start is free with
+// clearance, and world.yaml's free area is what the start reaches.
+TEST(RealMapTest, DepotAndWarehouseLoadWithTheirStartAndFreeArea) {
+  for (const auto& [name, resolution_m] :
+       std::vector<std::pair<std::string, double>>{{"depot", 0.05}, {"warehouse", 0.03}}) {
+    SCOPED_TRACE(name);
+    const std::string dir = std::string(ASLAM_SOURCE_DIR) + "/worlds/" + name;
+    const WorldInfo info = LoadWorld(dir);
+    ASSERT_TRUE(info.has_start);
+    const OccupancyGrid& grid = info.map.grid;
+    EXPECT_EQ(grid.resolution_m(), resolution_m);
+    EXPECT_EQ(grid.at(grid.WorldToCell({info.start.x_m, info.start.y_m})), OccupancyGrid::kFree);
+    EXPECT_GE(StartClearance(grid, info.start), 0.3);
+    const double reachable_m2 =
+        ReachableCells(grid, info.start) * grid.resolution_m() * grid.resolution_m();
+    EXPECT_NEAR(info.free_area_m2, reachable_m2, 0.01);
+    EXPECT_LE(reachable_m2, FreeArea(grid) + 1e-6);
+    for (const char* file : {"LICENSE", "README.md", "map.pgm", "map.yaml"}) {
+      EXPECT_TRUE(fs::is_regular_file(fs::path(dir) / file)) << file;
+    }
+  }
+}
 
 // The command line tool: usage, flag errors (exit 1), and a world written.
 int RunWorldgen(const std::string& arguments) {
