@@ -34,7 +34,9 @@
 
 DEFINE_string(world, "", "world folder (map.yaml + world.yaml) or a map_server MAP.yaml");
 DEFINE_string(start, "", "start pose X,Y,YAW in the world frame (m, m, rad); default: the world's");
-DEFINE_string(method, "ours", "goal selection: fd | ags | ours");
+DEFINE_string(method, "ours",
+              "goal selection: fd | ags | ours, or ideal (the ideal explorer: true pose, "
+              "nearest frontier; --inproc only)");
 DEFINE_double(duration, 1800.0,
               "simulated seconds at most (the run also ends when exploration is done)");
 DEFINE_int64(seed, 1, "simulator seed: the same seed gives the same run");
@@ -58,7 +60,8 @@ DEFINE_bool(devices, false,
 DEFINE_double(progress, 10.0, "a progress line every this many simulated seconds; 0 = none");
 DEFINE_string(worlds, "office,campus",
               "bench: comma-separated worlds (names under worlds/, folders or MAP.yaml files)");
-DEFINE_string(methods, "fd,ags,ours", "bench: comma-separated methods");
+DEFINE_string(methods, "fd,ags,ours,ideal",
+              "bench: comma-separated methods (ideal: the reference row, ideal.md)");
 DEFINE_int32(seeds, 15, "bench: seeds 1..N per world and method");
 DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
 DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
@@ -75,10 +78,11 @@ namespace aslam {
 namespace {
 
 constexpr const char* kUsage =
-    "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours --duration SEC\n"
+    "aslam explore --world DIR|MAP.yaml [--start X,Y,YAW] --method fd|ags|ours|ideal --duration "
+    "SEC\n"
     "              --seed N [--inproc] [--rate R] [--lcm-url URL] [--launch FILE] [--config FILE]\n"
     "              [--return-home] [--devices] [--set KEY=VALUE ...] --out DIR\n"
-    "aslam bench --worlds W1,W2 --methods fd,ags,ours --seeds N --duration SEC [--jobs J]\n"
+    "aslam bench --worlds W1,W2 --methods fd,ags,ours,ideal --seeds N --duration SEC [--jobs J]\n"
     "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
     "            [--report_only] --out DIR\n"
     "aslam log-stats RUN/run.lcmlog\n"
@@ -149,7 +153,9 @@ std::string WriteEffectiveConfig(const ExploreOptions& options,
                      (options.config_file.empty() ? "built-in defaults" : options.config_file);
   for (const ConfigOverride& o : overrides) text += " --set " + o.Key() + "=" + o.value;
   text += "; utility.method and sim.seed as --method and --seed\n";
-  overrides.push_back(ParseConfigOverride("utility.method=" + options.method));
+  overrides.push_back(ParseConfigOverride(
+      "utility.method=" +
+      std::string(UtilityMethodName(ParseExploreMethod(options.method, "--method").utility))));
   overrides.push_back(ParseConfigOverride("sim.seed=" + std::to_string(options.seed)));
   text += ApplyConfigOverrides(options.config_file, overrides);
   std::filesystem::create_directories(out);
@@ -296,10 +302,14 @@ int Explore(const std::vector<std::string>& sets) {
           c.total_s(), m.sim_per_cpu.value_or(0.0), c.slam_s, c.frontier_s, c.utility_s, c.nav_s,
           c.sim_s, c.evaluation_s, c.other_s);
     }
-    std::printf("wrote %s/{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,metrics.json%s%s}\n",
-                FLAGS_out.c_str(),
-                FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log",
-                FLAGS_inproc && !overrides.empty() ? ",config.yaml" : "");
+    std::printf(
+        "wrote "
+        "%s/"
+        "{map.yaml,map.pgm,map.png,graph.g2o,coverage.csv,uncertainty.csv,goals.csv,metrics.json%s%"
+        "s}\n",
+        FLAGS_out.c_str(),
+        FLAGS_inproc ? ",cost.csv" : ",process_stats.json,run.lcmlog,config.yaml,NAME.log",
+        FLAGS_inproc && !overrides.empty() ? ",config.yaml" : "");
     if (const std::string restarts = RestartsSummary(m.processes); !restarts.empty()) {
       std::printf("aslam explore: processes restarted during the run: %s (last ends:",
                   restarts.c_str());

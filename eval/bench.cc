@@ -73,6 +73,12 @@ std::vector<std::string> WriteBenchReports(const BenchOptions& options) {
   write("cost.md", sections([&](const SettingRecords& g) {
           return CostMarkdown(g.records, worlds, methods);
         }));
+  write("ideal.md", sections([&](const SettingRecords& g) {
+          return IdealMarkdown(g.records, worlds, methods);
+        }));
+  write("goals.md", sections([&](const SettingRecords& g) {
+          return GoalsMarkdown(g.records, worlds, methods);
+        }));
   write("curves.csv", sweep ? CurvesCsv(curves_by_setting) : CurvesCsv(groups.front().curves));
   if (sweep) write("sweep.md", SweepMarkdown(records, labels, worlds, methods, duration_s));
 

@@ -25,8 +25,8 @@ import numpy as np  # matplotlib's own dependency
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = {"fd": "tab:blue", "ags": "tab:orange", "ours": "tab:green"}
-LABELS = {"fd": "FD", "ags": "AGS", "ours": "Ours"}
+COLOURS = {"fd": "tab:blue", "ags": "tab:orange", "ours": "tab:green", "ideal": "tab:gray"}
+LABELS = {"fd": "FD", "ags": "AGS", "ours": "Ours", "ideal": "Ideal"}
 
 
 def number(text):
@@ -142,7 +142,7 @@ def main():
     parser.add_argument("--out", required=True, help="the figures' folder (holds Fig. 5's inputs)")
     parser.add_argument("--curves", help="curves.csv (default: OUT/curves.csv)")
     parser.add_argument("--setting", default="", help="a sweep's setting: its rows of curves.csv")
-    parser.add_argument("--methods", default="fd,ags,ours")
+    parser.add_argument("--methods", default="fd,ags,ours,ideal")
     parser.add_argument("--worlds", default="", help="panel order")
     parser.add_argument("--fig5-worlds", default="")
     args = parser.parse_args()

@@ -5,8 +5,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <map>
+
+#include <yaml-cpp/yaml.h>
 
 #include "common/text_format.h"
+#include "eval/goal_ledger.h"
 
 namespace aslam {
 namespace {
@@ -42,14 +46,6 @@ std::vector<double> PerSecond(const std::vector<std::pair<double, double>>& rows
 std::string MeanStdCell(const MeanStd& m, const char* format) {
   if (m.n == 0) return "–";
   return Format(format, m.mean) + " ± " + Format(format, m.std);
-}
-
-// A CSV field, quoted when it holds a comma, a quote or a newline (a sweep's label may).
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string q = "\"";
-  for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
 }
 
 }  // namespace
@@ -399,6 +395,134 @@ std::string SweepMarkdown(const std::vector<RunRecord>& records,
     }
   }
   return out;
+}
+
+namespace {
+
+// A run's value of `key` by seed, for one world and method.
+std::map<int, double> BySeed(const std::vector<RunRecord>& records, const std::string& world,
+                             const std::string& method, const std::string& key) {
+  std::map<int, double> values;
+  for (const RunRecord& r : records) {
+    if (r.run.world_label == world && r.run.method == method) values[r.run.seed] = r.Number(key);
+  }
+  return values;
+}
+
+std::string RatioCell(std::vector<double> ratios) {
+  if (ratios.empty()) return "–";
+  const double worst = *std::max_element(ratios.begin(), ratios.end());
+  auto text = [](double r) { return std::isfinite(r) ? Format("%.2f", r) : std::string("never"); };
+  return text(Median(ratios)) + " (" + text(worst) + ")";
+}
+
+}  // namespace
+
+std::string IdealMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods) {
+  const bool any_ideal = std::any_of(records.begin(), records.end(),
+                                     [](const RunRecord& r) { return r.run.method == "ideal"; });
+  if (!any_ideal) return "No ideal runs: add ideal to --methods for the reference.\n";
+  std::string out =
+      "Each method against the ideal explorer (true pose, nearest frontier by path) of the same "
+      "world and seed: median over the seeds, the worst seed in brackets. Time to 90 %: method / "
+      "ideal (never: the method did not reach 90 % where the ideal did; a seed where the ideal "
+      "did not is left out). Coverage: method's final / ideal's final (worst: the lowest).\n\n"
+      "| world | method | seeds | time to 90 % / ideal's | final coverage / ideal's |\n"
+      "|---|---|---|---|---|\n";
+  for (const std::string& world : worlds) {
+    const std::map<int, double> ideal_t = BySeed(records, world, "ideal", "time_to_90_coverage_s");
+    const std::map<int, double> ideal_c = BySeed(records, world, "ideal", "coverage");
+    for (const std::string& method : methods) {
+      if (method == "ideal") continue;
+      const std::map<int, double> t = BySeed(records, world, method, "time_to_90_coverage_s");
+      const std::map<int, double> c = BySeed(records, world, method, "coverage");
+      std::vector<double> time_ratios, coverage_ratios;
+      int seeds = 0;
+      for (const auto& [seed, coverage] : c) {
+        const auto ideal = ideal_c.find(seed);
+        if (ideal == ideal_c.end()) continue;
+        ++seeds;
+        if (ideal->second > 0) coverage_ratios.push_back(coverage / ideal->second);
+        const double ideal_time = ideal_t.at(seed);
+        if (!std::isfinite(ideal_time)) continue;
+        const double time = t.at(seed);
+        time_ratios.push_back(std::isfinite(time) ? time / ideal_time : INFINITY);
+      }
+      const std::string coverage_cell =
+          coverage_ratios.empty()
+              ? "–"
+              : Format("%.3f (%.3f)", Median(coverage_ratios),
+                       *std::min_element(coverage_ratios.begin(), coverage_ratios.end()));
+      out += "| " + world + " | " + method + " | " + std::to_string(seeds) + " | " +
+             RatioCell(time_ratios) + " | " + coverage_cell + " |\n";
+    }
+  }
+  return out;
+}
+
+std::string GoalsMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods) {
+  std::string out = "| world | method | runs | decisions |";
+  for (const GoalOutcome outcome : kAllGoalOutcomes)
+    out += std::string(" ") + GoalOutcomeName(outcome) + " |";
+  out += " failed + unreachable, % of decisions | stuck runs | collisions |\n|---|---|---|---|";
+  for (std::size_t i = 0; i < std::size(kAllGoalOutcomes) + 3; ++i) out += "---|";
+  out += "\n";
+  auto sum = [](const std::vector<double>& values) {
+    double total = 0.0;
+    for (const double v : values) total += std::isnan(v) ? 0.0 : v;
+    return total;
+  };
+  std::string reasons;
+  for (const std::string& world : worlds) {
+    for (const std::string& method : methods) {
+      const std::vector<double> decisions = ValuesOf(records, world, method, "decisions");
+      if (decisions.empty()) continue;
+      out += "| " + world + " | " + method + " | " + std::to_string(decisions.size()) + " | " +
+             Format("%.0f", sum(decisions)) + " |";
+      for (const GoalOutcome outcome : kAllGoalOutcomes) {
+        const std::string key = std::string("goal_outcomes.") + GoalOutcomeName(outcome);
+        out += " " + Format("%.0f", sum(ValuesOf(records, world, method, key))) + " |";
+      }
+      const double failed = sum(ValuesOf(records, world, method, "goal_outcomes.failed")) +
+                            sum(ValuesOf(records, world, method, "goal_outcomes.unreachable"));
+      const std::vector<double> stuck = ValuesOf(records, world, method, "stuck_episodes");
+      const long stuck_runs =
+          std::count_if(stuck.begin(), stuck.end(), [](double n) { return n > 0; });
+      out += " " + (sum(decisions) > 0 ? Format("%.1f", 100.0 * failed / sum(decisions)) : "–") +
+             " | " + std::to_string(stuck_runs) + " | " +
+             Format("%.0f", sum(ValuesOf(records, world, method, "collisions"))) + " |\n";
+
+      // The runs' failures by reason, summed (metrics.json's goal_failures_by_reason).
+      std::map<std::string, int> by_reason;
+      for (const RunRecord& r : records) {
+        if (r.run.world_label != world || r.run.method != method) continue;
+        for (const auto& [key, text] : r.fields) {
+          if (key != "goal_failures_by_reason") continue;
+          try {
+            for (const YAML::Node& entry : YAML::Load(text))
+              by_reason[entry["reason"].as<std::string>()] += entry["goals"].as<int>();
+          } catch (const YAML::Exception&) {
+            by_reason["(unreadable in " + r.run.dir + "/metrics.json)"] += 0;
+          }
+        }
+      }
+      std::vector<std::pair<std::string, int>> sorted(by_reason.begin(), by_reason.end());
+      std::stable_sort(sorted.begin(), sorted.end(),
+                       [](const auto& a, const auto& b) { return a.second > b.second; });
+      for (const auto& [reason, goals] : sorted) {
+        reasons +=
+            "| " + world + " | " + method + " | " + reason + " | " + std::to_string(goals) + " |\n";
+      }
+    }
+  }
+  out +=
+      "\nFailed and unreachable goals by reason (numbers in the navigator's words as N, points "
+      "as (x; y)):\n\n| world | method | reason | goals |\n|---|---|---|---|\n";
+  return out + (reasons.empty() ? "| – | – | none | 0 |\n" : reasons);
 }
 
 }  // namespace aslam

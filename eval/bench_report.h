@@ -2,9 +2,9 @@
 
 // `aslam bench`'s report tables from the finished runs (docs/architecture.md §6):
 // runs.csv, Table I (table1.md), Table II (table2.md), coverage.md,
-// comparison.md, cost.md, the mean curves (curves.csv) and a --set sweep's summary
-// (sweep.md). Text only; the statistics come from eval/stats.h. The tables take
-// one setting's runs; eval/bench.cc puts one section per setting in each file.
+// comparison.md, cost.md, ideal.md, goals.md, the mean curves (curves.csv) and a --set sweep's
+// summary (sweep.md). Text only; the statistics come from eval/stats.h. The tables take one
+// setting's runs; eval/bench.cc puts one section per setting in each file.
 
 #include <map>
 #include <string>
@@ -61,6 +61,18 @@ std::string ComparisonMarkdown(const std::vector<RunRecord>& records,
 std::string CostMarkdown(const std::vector<RunRecord>& records,
                          const std::vector<std::string>& worlds,
                          const std::vector<std::string>& methods);
+// The ideal explorer as the reference (issue 15): per world and method, over the seeds both ran,
+// the method's time to 90 % and final coverage as ratios to the ideal's of the same seed
+// (medians, and the worst seed). Says so when no ideal run is there.
+std::string IdealMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods);
+// Every goal accounted for: per world and method, decisions, goals by outcome (goals.csv's),
+// failed and unreachable goals as a share of decisions, runs that were stuck, collisions; then
+// the failures by reason, per method.
+std::string GoalsMarkdown(const std::vector<RunRecord>& records,
+                          const std::vector<std::string>& worlds,
+                          const std::vector<std::string>& methods);
 // A sweep in one table: per world, method and setting (settings adjacent, so a parameter's
 // effect reads down the column), the runs and the medians of coverage, time to 90 % (never
 // reached counting as the latest), ATE RMSE and algebraic connectivity.

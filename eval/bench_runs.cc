@@ -120,8 +120,7 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options) {
   if (options.worlds.empty()) throw std::invalid_argument("--worlds: no world given");
   if (options.methods.empty()) throw std::invalid_argument("--methods: no method given");
   for (const std::string& method : options.methods) {
-    if (!ParseUtilityMethod(method))
-      throw std::invalid_argument("--methods: '" + method + "': expected fd, ags or ours");
+    ParseExploreMethod(method, "--methods:");
   }
   if (options.seeds < 1) throw std::invalid_argument("--seeds must be >= 1");
   CheckDuration(options.duration_s);

@@ -21,7 +21,7 @@ namespace aslam {
 
 struct BenchOptions {
   std::vector<std::string> worlds;  // names under worlds/, world folders or MAP.yaml files
-  std::vector<std::string> methods = {"fd", "ags", "ours"};
+  std::vector<std::string> methods = {"fd", "ags", "ours", "ideal"};
   int seeds = 15;                  // seeds 1..seeds
   double duration_s = 1800.0;      // simulated seconds per run
   int jobs = 2;                    // runs in parallel

@@ -180,9 +180,12 @@ std::string AddModeToMetricsJson(const std::string& json, const std::string& mod
 ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std::atomic<bool>* stop,
                                 const std::function<void(const ExploreProgress&)>& on_progress) {
   const ExploreOptions& ex = options.explore;
-  const auto method = ParseUtilityMethod(ex.method);
-  if (!method)
-    throw std::invalid_argument("--method '" + ex.method + "': expected fd, ags or ours");
+  const ExploreMethod method = ParseExploreMethod(ex.method, "--method");
+  if (method.ideal) {
+    throw std::invalid_argument(
+        "--method ideal runs in one process only (--inproc): it maps with SIM_TRUTH, which no "
+        "process of the stack may read");
+  }
   CheckDuration(ex.duration_s);
   if (!(options.rate >= 0)) throw std::invalid_argument("--rate must be >= 0");
   if (options.out_dir.empty()) throw std::invalid_argument("--out is required");
@@ -200,7 +203,8 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   std::error_code error;
   fs::create_directories(out, error);
   if (error) throw std::runtime_error("cannot create " + out + ": " + error.message());
-  const std::string node_config = WriteNodeConfig(ex.config_file, UtilityMethodName(*method), out);
+  const std::string node_config =
+      WriteNodeConfig(ex.config_file, UtilityMethodName(method.utility), out);
   (void)LoadUtilityOptionsFromFile(node_config);
 
   std::string build = options.build_dir;
@@ -226,7 +230,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   const std::vector<std::pair<std::string, std::string>> vars = {
       {"WORLD", ex.start ? WriteWorldWithStart(world, start, out) : Absolute(ex.world)},
       {"CONFIG", node_config},
-      {"METHOD", UtilityMethodName(*method)},
+      {"METHOD", UtilityMethodName(method.utility)},
       {"DURATION", Number(ex.duration_s)},
       {"SEED", std::to_string(ex.seed)},
       {"RATE", Number(options.rate)},
@@ -344,7 +348,7 @@ ExploreResult RunExploreProcess(const ExploreProcessOptions& options, const std:
   if (listener.map()) result.map = *listener.map();
   result.graph = listener.graph();
   const double sim_s = listener.sim_utime() * 1e-6;
-  FinishResult(listener, world, ex, UtilityMethodName(*method), sim_s, wall_s, &result);
+  FinishResult(listener, world, ex, UtilityMethodName(method.utility), sim_s, wall_s, &result);
   RunMetrics& m = result.metrics;
   m.collisions = listener.collisions();
   if (const auto& s = listener.status()) {

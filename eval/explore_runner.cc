@@ -23,6 +23,7 @@
 #include "common/world_file.h"
 #include "drivers/sim/sim_config.h"
 #include "drivers/sim/sim_node.h"
+#include "eval/ideal_mapper_node.h"
 #include "eval/run_listener.h"
 #include "eval/trajectory_metrics.h"
 #include "frontier/frontier_config.h"
@@ -44,6 +45,16 @@ constexpr int64_t kCostPeriodUs = 10'000'000;
 constexpr double kRateWindowS = 300.0;
 
 }  // namespace
+
+std::string ExploreMethod::name() const { return ideal ? "ideal" : UtilityMethodName(utility); }
+
+ExploreMethod ParseExploreMethod(const std::string& name, const std::string& flag) {
+  if (name == "ideal") return {UtilityMethod::kFd, true};
+  const auto utility = ParseUtilityMethod(name);
+  if (!utility)
+    throw std::invalid_argument(flag + " '" + name + "': expected fd, ags, ours or ideal");
+  return {*utility, false};
+}
 
 void CheckDuration(double duration_s) {
   if (std::isfinite(duration_s) && duration_s > 0) return;
@@ -67,9 +78,7 @@ std::optional<double> SimSecondsPerCpuSecond(const std::vector<CostSample>& cost
 
 ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atomic<bool>* stop,
                                   const std::function<void(const ExploreProgress&)>& on_progress) {
-  const auto method = ParseUtilityMethod(options.method);
-  if (!method)
-    throw std::invalid_argument("--method '" + options.method + "': expected fd, ags or ours");
+  const ExploreMethod method = ParseExploreMethod(options.method, "--method");
   CheckDuration(options.duration_s);
 
   // One thread: every node's CPU is charged on this thread (OpenCV's workers
@@ -89,7 +98,7 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
       LoadFrontierOptions(ConfigReader::FromOptionalFile(file, "frontier"), nav_options);
   UtilityOptions utility_options =
       LoadUtilityOptions(ConfigReader::FromOptionalFile(file, "utility"), nav_options);
-  utility_options.selector.method = *method;
+  utility_options.selector.method = method.utility;
 
   const WorldInfo world = LoadWorld(options.world);
   const Pose2d start = ResolveStart(world, options);
@@ -100,7 +109,14 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   SlamNodeOptions slam_node_options = slam_config.node;
   // memq loses nothing, and compressing and inflating every map would cost the run time.
   slam_node_options.map_encoding = SlamNodeOptions::MapEncoding::kRaw;
-  SlamNode slam_node(host.lcm(), slam_config.slam, slam_node_options);
+  // The ideal explorer maps with truth in SLAM's place; everything else is the same.
+  std::optional<SlamNode> slam_node;
+  std::optional<IdealMapperNode> ideal_node;
+  if (method.ideal) {
+    ideal_node.emplace(host.lcm(), slam_config.slam, slam_node_options);
+  } else {
+    slam_node.emplace(host.lcm(), slam_config.slam, slam_node_options);
+  }
   FrontierNode frontier_node(host.lcm(), frontier_options);
   UtilityNode utility_node(host.lcm(), utility_options);
   NavNode nav_node(host.lcm(), nav_options);
@@ -114,7 +130,8 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
   auto node_cpu = [&] {
     NodeCpu cpu;
     cpu.sim_s = sim_tick_cpu_s + sim_node.subscriptions().total_cpu_s();
-    cpu.slam_s = slam_node.subscriptions().total_cpu_s();
+    cpu.slam_s = slam_node ? slam_node->subscriptions().total_cpu_s()
+                           : ideal_node->subscriptions().total_cpu_s();
     cpu.frontier_s = frontier_node.subscriptions().total_cpu_s();
     cpu.utility_s = utility_node.subscriptions().total_cpu_s();
     cpu.nav_s = nav_node.subscriptions().total_cpu_s();
@@ -177,9 +194,9 @@ ExploreResult RunExploreInProcess(const ExploreOptions& options, const std::atom
 
   // The final state straight from SLAM: newer than its last (rate-limited) SLAM_MAP.
   const double finish_start_s = ThreadCpuSeconds();
-  result.map = slam_node.slam().RenderMap();
-  result.graph = slam_node.slam().graph();
-  FinishResult(listener, world, options, UtilityMethodName(*method), sim_s, wall_s, &result);
+  result.map = slam_node ? slam_node->slam().RenderMap() : ideal_node->mapper().RenderMap();
+  result.graph = slam_node ? slam_node->slam().graph() : ideal_node->mapper().graph();
+  FinishResult(listener, world, options, method.name(), sim_s, wall_s, &result);
   evaluation_cpu_s += ThreadCpuSeconds() - finish_start_s;
   RunMetrics& m = result.metrics;
   m.node_cpu = node_cpu();

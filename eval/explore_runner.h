@@ -18,18 +18,32 @@
 #include "common/occupancy_grid.h"
 #include "common/pose2d.h"  // also ParsePose, for --start
 #include "common/pose_graph.h"
+#include "eval/goal_ledger.h"
 #include "eval/scan_timing.h"
+#include "eval/stuck_detector.h"
 #include "procman/process_history.h"
+#include "utility/goal_selector.h"
 
 namespace aslam {
 
+// What `--method` names: a utility method (fd, ags, ours), or `ideal`, the ideal explorer
+// (evaluation only: the true pose and lidar instead of SLAM, eval/ideal_mapper.h, and fd's
+// nearest frontier by path), the physical limit every method is measured against.
+struct ExploreMethod {
+  UtilityMethod utility = UtilityMethod::kOurs;
+  bool ideal = false;
+  std::string name() const;  // "fd", "ags", "ours" or "ideal"
+};
+// Throws std::invalid_argument naming `flag` and the value.
+ExploreMethod ParseExploreMethod(const std::string& name, const std::string& flag);
+
 struct ExploreOptions {
-  std::string world;                // world folder or a map_server MAP.yaml
-  std::optional<Pose2d> start;      // "world"; overrides the world's start
-  std::string method = "ours";      // fd | ags | ours; overrides the config's utility.method
-  double duration_s = 1800.0;       // simulated seconds at most
-  uint64_t seed = 1;                // the simulator's seed (overrides sim.seed)
-  std::string config_file;          // "" = built-in defaults
+  std::string world;            // world folder or a map_server MAP.yaml
+  std::optional<Pose2d> start;  // "world"; overrides the world's start
+  std::string method = "ours";  // fd | ags | ours | ideal; overrides the config's utility.method
+  double duration_s = 1800.0;   // simulated seconds at most
+  uint64_t seed = 1;            // the simulator's seed (overrides sim.seed)
+  std::string config_file;      // "" = built-in defaults
   double progress_period_s = 10.0;  // simulated seconds between progress reports; 0 = none
 };
 
@@ -112,6 +126,13 @@ struct RunMetrics {
   int goals_reached = 0;
   int goals_failed = 0;
   int decisions = 0;
+  // goals.csv counted: goals by outcome name (every outcome, in GoalOutcome order), and the
+  // failed and unreachable ones by reason category, most frequent first.
+  std::vector<std::pair<std::string, int>> goal_outcomes;
+  std::vector<std::pair<std::string, int>> goal_failures_by_reason;
+  // Stuck while exploring (eval/stuck_detector.h), and for how long in all.
+  std::vector<StuckEpisode> stuck_episodes;
+  double stuck_s = 0.0;
   bool done = false;  // EXPLORE_STATUS said done
   // done | stopped (EXPLORE_CONTROL) | duration | interrupted; process mode also process-failed (a
   // process ended and procman will not bring it back) and procman-exited (the deputy ended before
@@ -153,6 +174,7 @@ struct ExploreResult {
   std::vector<CoverageSample> coverage;           // one per simulated second, then the final map's
   std::vector<UncertaintySample> uncertainty;     // same times as `coverage`
   std::vector<CostSample> cost;                   // in-process runs only
+  std::vector<GoalRecord> goals;                  // every goal, in the order chosen (goals.csv)
   OccupancyGrid map;                              // final SLAM map, "map" (empty if none)
   PoseGraph graph;                                // final pose graph, "map"
   std::vector<Pose2d> slam_path;                  // SLAM_POSE re-anchored to the final graph, "map"

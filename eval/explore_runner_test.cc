@@ -69,6 +69,39 @@ void ExpectCostAccounted(const ExploreResult& r) {
   EXPECT_EQ(m.sim_per_cpu_last_300s.has_value(), m.sim_seconds >= 600.0);
 }
 
+// goals.csv's ledger (from the bus) agrees with the utility's own counters, and every goal's
+// times are in order.
+void ExpectGoalsAccounted(const ExploreResult& r) {
+  const RunMetrics& m = r.metrics;
+  int total = 0, reached = 0, failed = 0;
+  for (const auto& [outcome, count] : m.goal_outcomes) {
+    total += count;
+    if (outcome == "reached") reached = count;
+    if (outcome == "failed" || outcome == "unreachable") failed += count;
+  }
+  EXPECT_EQ(total, static_cast<int>(r.goals.size()));
+  EXPECT_EQ(reached, m.goals_reached);
+  EXPECT_EQ(failed, m.goals_failed);
+  EXPECT_LE(static_cast<int>(r.goals.size()), m.decisions);
+  int by_reason = 0;
+  for (const auto& [reason, count] : m.goal_failures_by_reason) by_reason += count;
+  EXPECT_EQ(by_reason, failed);
+  for (std::size_t i = 0; i < r.goals.size(); ++i) {
+    const GoalRecord& g = r.goals[i];
+    if (i > 0) {
+      EXPECT_GT(g.goal_id, r.goals[i - 1].goal_id);
+      EXPECT_GE(g.chosen_at_s, r.goals[i - 1].chosen_at_s);
+    }
+    if (g.ended_at_s) {
+      EXPECT_GE(*g.ended_at_s, g.chosen_at_s) << "goal " << g.goal_id;
+    }
+    EXPECT_EQ(g.ended_at_s.has_value(), g.outcome != GoalOutcome::kOpen) << "goal " << g.goal_id;
+    EXPECT_GE(g.driven_m, 0.0);
+  }
+  ASSERT_FALSE(r.goals.empty());
+  EXPECT_TRUE(r.goals.front().path_length_at_choice_m.has_value());
+}
+
 class ExploreMethodTest : public ::testing::TestWithParam<std::string> {};
 
 // Issue 6: each method explores the test world to `done`, >= 95 % covered, without touching a wall.
@@ -88,6 +121,11 @@ TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
   EXPECT_FALSE(r.map.empty());
   EXPECT_EQ(static_cast<int>(r.graph.nodes.size()), m.keyframes);
   ExpectCostAccounted(r);
+  ExpectGoalsAccounted(r);
+  EXPECT_TRUE(m.stuck_episodes.empty());
+  if (GetParam() == "ideal") {
+    EXPECT_LT(m.ate_rmse_m, 1e-6);  // it maps with the true pose
+  }
   std::printf(
       "[ measured ] %s: coverage %.4f, done at %.1f s, ATE RMSE %.3f m, %d keyframes, "
       "%d loop closures, goals %d reached %d failed\n",
@@ -95,7 +133,8 @@ TEST_P(ExploreMethodTest, TestWorldExploredToDoneWithoutCollision) {
       m.goals_reached, m.goals_failed);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest, ::testing::Values("fd", "ags", "ours"),
+INSTANTIATE_TEST_SUITE_P(Methods, ExploreMethodTest,
+                         ::testing::Values("fd", "ags", "ours", "ideal"),
                          [](const auto& info) { return info.param; });
 
 // docs/architecture.md §4: in-process runs are deterministic for a seed; only the wall time
@@ -123,10 +162,18 @@ TEST(ExploreRunnerTest, RunFolderHoldsEveryFileConsistentWithTheMetrics) {
   const std::string dir = TestTempPath("run");
   std::filesystem::remove_all(dir);
   WriteRunFolder(r, dir);
-  for (const char* f :
-       {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "metrics.json"}) {
+  for (const char* f : {"map.yaml", "map.pgm", "map.png", "graph.g2o", "coverage.csv", "goals.csv",
+                        "metrics.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
+  // goals.csv: a header and a row per goal.
+  std::istringstream goals_csv(ReadFile(dir + "/goals.csv"));
+  std::string goals_line;
+  std::getline(goals_csv, goals_line);
+  EXPECT_EQ(goals_line.rfind("goal_id,frontier_id,", 0), 0u) << goals_line;
+  std::size_t goal_rows = 0;
+  while (std::getline(goals_csv, goals_line)) ++goal_rows;
+  EXPECT_EQ(goal_rows, r.goals.size());
   const YAML::Node metrics = YAML::LoadFile(dir + "/metrics.json");
   const int keyframes = metrics["keyframes"].as<int>();
   const double coverage = metrics["coverage"].as<double>();
@@ -250,6 +297,8 @@ TEST(ExploreRunnerTest, BadInputsThrowBeforeRunning) {
   EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
   o = TestWorld("fd");
   o.start = Pose2d{-100.0, -100.0, 0.0};  // off the map
+  EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
+  o = TestWorld("ideal ");
   EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
   o = TestWorld("fd");
   o.world = kRoot + "/worlds/no_such_world";

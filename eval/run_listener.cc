@@ -6,15 +6,18 @@
 
 #include "aslam/frontier_list_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
+#include "aslam/nav_status_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "aslam/sim_status_t.hpp"
+#include "aslam/utility_scores_t.hpp"
 #include "common/channels.h"
 #include "common/types_lcm.h"
 #include "eval/graph_metrics.h"
 #include "eval/map_metrics.h"
 #include "eval/run_outputs.h"
 #include "frontier/frontier_lcm.h"
+#include "navigation/nav_lcm.h"
 
 namespace aslam {
 namespace {
@@ -41,6 +44,10 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool tru
     if (truth_.empty() || pose->utime > truth_.back().utime)
       truth_.push_back({pose->utime, pose->pose});
     if (!truth_on_host_clock_) Heard(pose->utime);
+    const Point2d position{pose->pose.x_m, pose->pose.y_m};
+    goals_.OnTruth(position);
+    stuck_.OnPosition(sim_s(), position,
+                      status_ && status_->state == explore_status_t::STATE_EXPLORING);
     return true;
   });
   if (truth_on_host_clock_) {
@@ -87,6 +94,9 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool tru
     auto list = FromLcm(m);
     if (!list) return false;
     frontiers_ = std::move(*list);
+    std::vector<int> ids;
+    for (const Frontier& f : frontiers_.frontiers) ids.push_back(f.id);
+    goals_.OnFrontiers(std::move(ids));
     return true;
   });
   subscriptions_.Add<explore_status_t>(channels::kExploreStatus, [this](const explore_status_t& m) {
@@ -97,6 +107,21 @@ RunListener::RunListener(lcm::LCM& lcm, const OccupancyGrid& truth_map, bool tru
   });
   subscriptions_.Add<explore_goal_t>(channels::kExploreGoal, [this](const explore_goal_t& m) {
     goal_ = m;
+    goals_.OnGoal(sim_s(), m.goal_id, m.cancel, {m.x_m, m.y_m}, m.frontier_id);
+    return true;
+  });
+  subscriptions_.Add<nav_status_t>(channels::kNavStatus, [this](const nav_status_t& m) {
+    const auto status = FromLcm(m);
+    if (!status) return false;
+    goals_.OnNavStatus(sim_s(), status->goal_id, status->state, status->detail);
+    return true;
+  });
+  subscriptions_.Add<utility_scores_t>(channels::kUtilityScores, [this](const utility_scores_t& m) {
+    double path_length_m = -1.0;
+    for (const frontier_score_t& score : m.scores) {
+      if (score.frontier_id == m.chosen_frontier_id) path_length_m = score.path_length_m;
+    }
+    goals_.OnScores(m.chosen_frontier_id, path_length_m);
     return true;
   });
 }
@@ -232,6 +257,12 @@ void FinishResult(RunListener& listener, const WorldInfo& world, const ExploreOp
   for (const PoseGraphEdge& e : result->graph.edges)
     m.loop_closures += e.kind == EdgeKind::kLoopClosure;
   m.done = listener.done();
+  result->goals = listener.goals().goals();
+  for (const auto& [outcome, count] : listener.goals().CountByOutcome())
+    m.goal_outcomes.emplace_back(GoalOutcomeName(outcome), count);
+  m.goal_failures_by_reason = listener.goals().CountFailuresByReason();
+  m.stuck_episodes = listener.stuck().episodes();
+  m.stuck_s = listener.stuck().StuckSeconds(sim_s);
   m.time_to_90_coverage_s = TimeToCoverage(result->coverage, 0.9);
 
   m.average_degree = AverageDegree(result->graph);

@@ -19,6 +19,8 @@
 #include "common/sensor_types.h"
 #include "common/world_file.h"
 #include "eval/explore_runner.h"
+#include "eval/goal_ledger.h"
+#include "eval/stuck_detector.h"
 #include "eval/trajectory_metrics.h"
 #include "frontier/frontier.h"
 
@@ -55,6 +57,10 @@ class RunListener {
   const std::optional<OccupancyGrid>& map() const { return map_; }
   const FrontierList& frontiers() const { return frontiers_; }
   const std::optional<explore_status_t>& status() const { return status_; }
+  // Every goal so far (EXPLORE_GOAL, NAV_STATUS, FRONTIERS, UTILITY_SCORES, true distance).
+  const GoalLedger& goals() const { return goals_; }
+  // Stuck while exploring, by the true pose and EXPLORE_STATUS.
+  const StuckDetector& stuck() const { return stuck_; }
   int loop_closures() const { return loop_closures_; }
   int64_t collisions() const { return collisions_; }
   bool done() const { return done_; }
@@ -67,6 +73,7 @@ class RunListener {
     Pose2d offset;  // SLAM pose in the frame of keyframe `node`
   };
   void Heard(int64_t utime);
+  double sim_s() const { return sim_utime_ * 1e-6; }
 
   const OccupancyGrid& truth_map_;
   bool truth_on_host_clock_;
@@ -88,6 +95,8 @@ class RunListener {
   FrontierList frontiers_;
   std::optional<explore_status_t> status_;
   std::optional<explore_goal_t> goal_;
+  GoalLedger goals_;
+  StuckDetector stuck_;
   int loop_closures_ = 0;
   int64_t collisions_ = 0;
   bool done_ = false;

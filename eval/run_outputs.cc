@@ -33,6 +33,38 @@ std::string NodeCpuJson(const NodeCpu& cpu) {
                      {"total", JsonNumber(cpu.total_s())}});
 }
 
+std::string CountsJson(const std::vector<std::pair<std::string, int>>& counts) {
+  std::vector<std::pair<std::string, std::string>> fields;
+  for (const auto& [name, count] : counts) fields.emplace_back(name, std::to_string(count));
+  return JsonObject(fields);
+}
+
+std::string FailuresJson(const std::vector<std::pair<std::string, int>>& by_reason) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < by_reason.size(); ++i) {
+    out += (i ? ", " : "") + JsonObject({{"reason", JsonString(by_reason[i].first)},
+                                         {"goals", std::to_string(by_reason[i].second)}});
+  }
+  return out + "]";
+}
+
+std::string StuckJson(const std::vector<StuckEpisode>& episodes) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < episodes.size(); ++i) {
+    const StuckEpisode& e = episodes[i];
+    out += (i ? ", " : "") + JsonObject({{"start_s", JsonNumber(e.start_s)},
+                                         {"detected_s", JsonNumber(e.detected_s)},
+                                         {"end_s", OptionalNumber(e.end_s)},
+                                         {"x_m", JsonNumber(e.position_m.x_m)},
+                                         {"y_m", JsonNumber(e.position_m.y_m)}});
+  }
+  return out + "]";
+}
+
+std::string OptionalCsvNumber(const std::optional<double>& value, const char* format) {
+  return value ? Format(format, *value) : "";
+}
+
 }  // namespace
 
 std::string MetricsToJson(const RunMetrics& m) {
@@ -53,6 +85,11 @@ std::string MetricsToJson(const RunMetrics& m) {
       {"time_to_90_coverage_s", OptionalNumber(m.time_to_90_coverage_s)},
       {"end_reason", JsonString(m.end_reason)},
       {"decisions", std::to_string(m.decisions)},
+      {"goal_outcomes", CountsJson(m.goal_outcomes)},
+      {"goal_failures_by_reason", FailuresJson(m.goal_failures_by_reason)},
+      {"stuck_episodes", std::to_string(m.stuck_episodes.size())},
+      {"stuck_s", JsonNumber(m.stuck_s)},
+      {"stuck", StuckJson(m.stuck_episodes)},
       {"ate_max_m", JsonNumber(m.ate_max_m)},
       {"ate_matched_keyframes", std::to_string(m.ate_matched)},
       {"free_area_m2", JsonNumber(m.free_area_m2)},
@@ -100,6 +137,20 @@ std::string CostToCsv(const std::vector<CostSample>& samples) {
     out += Format("%.3f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", s.t_s, s.wall_s, c.sim_s,
                   c.slam_s, c.frontier_s, c.utility_s, c.nav_s, c.evaluation_s, c.other_s,
                   c.total_s());
+  }
+  return out;
+}
+
+std::string GoalsToCsv(const std::vector<GoalRecord>& goals) {
+  std::string out =
+      "goal_id,frontier_id,target_x_m,target_y_m,chosen_at_s,ended_at_s,outcome,reason,"
+      "path_length_at_choice_m,driven_m\n";
+  for (const GoalRecord& g : goals) {
+    out += Format("%lld,%d,%.3f,%.3f,%.3f,", static_cast<long long>(g.goal_id), g.frontier_id,
+                  g.target_m.x_m, g.target_m.y_m, g.chosen_at_s);
+    out += OptionalCsvNumber(g.ended_at_s, "%.3f") + "," + GoalOutcomeName(g.outcome) + "," +
+           CsvField(g.reason) + "," + OptionalCsvNumber(g.path_length_at_choice_m, "%.3f") +
+           Format(",%.3f\n", g.driven_m);
   }
   return out;
 }
@@ -216,6 +267,7 @@ void WriteRunFolder(const ExploreResult& result, const std::string& dir) {
   WriteG2o(result.graph, dir + "/graph.g2o");
   WriteFileAtomically(dir + "/coverage.csv", CoverageToCsv(result.coverage));
   WriteFileAtomically(dir + "/uncertainty.csv", UncertaintyToCsv(result.uncertainty));
+  WriteFileAtomically(dir + "/goals.csv", GoalsToCsv(result.goals));
   if (!result.cost.empty()) WriteFileAtomically(dir + "/cost.csv", CostToCsv(result.cost));
   WriteFileAtomically(dir + "/metrics.json", MetricsToJson(result.metrics));
 }

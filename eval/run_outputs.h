@@ -3,7 +3,8 @@
 // The run folder of `aslam explore`: map.yaml + map.pgm (ROS map_server),
 // map.png (the map with pose graph, path and frontiers drawn over it),
 // graph.g2o, coverage.csv (t_s,coverage), uncertainty.csv (t_s,mean_edge_d_opt),
-// cost.csv (in-process runs: CPU per node over simulated time) and metrics.json.
+// goals.csv (every goal and how it ended), cost.csv (in-process runs: CPU per node over simulated
+// time) and metrics.json.
 
 #include <optional>
 #include <string>
@@ -22,6 +23,10 @@ std::string MetricsToJson(const RunMetrics& metrics);
 // cost.csv's text: a header, then per sample t_s, wall_s and the cumulative
 // CPU seconds of each node and in total.
 std::string CostToCsv(const std::vector<CostSample>& samples);
+
+// goals.csv's text: a header, then one row per goal in the order chosen; ended_at_s and
+// path_length_at_choice_m are empty when unknown (an open goal, scores not heard).
+std::string GoalsToCsv(const std::vector<GoalRecord>& goals);
 
 // coverage.csv's text: a `t_s,coverage` header, then one row per sample.
 std::string CoverageToCsv(const std::vector<CoverageSample>& samples);
