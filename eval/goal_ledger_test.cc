@@ -10,7 +10,8 @@ TEST(GoalFailureCategory, NumbersAndPointsBecomePlaceholders) {
             "no progress for N s after N recoveries");
   EXPECT_EQ(GoalFailureCategory("no path from (1.25, -3.50) to goal (4.00, 5.5) in the costmap"),
             "no path from (x; y) to goal (x; y) in the costmap");
-  EXPECT_EQ(GoalFailureCategory("goal (-0.5, 2) is in an obstacle"), "goal (x; y) is in an obstacle");
+  EXPECT_EQ(GoalFailureCategory("goal (-0.5, 2) is in an obstacle"),
+            "goal (x; y) is in an obstacle");
   // Digits inside a word stay: "A2" is a name, not a number.
   EXPECT_EQ(GoalFailureCategory("A2 lidar"), "A2 lidar");
   EXPECT_EQ(GoalFailureCategory(""), "");
@@ -61,8 +62,8 @@ TEST(GoalLedger, ANewGoalEndsTheOldOneAsVanishedOrReplacedByItsFrontier) {
   ledger.OnGoal(5.0, 2, true, {}, -1);  // cancelled, its frontier 3 still there
   ledger.OnGoal(6.0, 3, false, {3, 3}, 3);
   ledger.OnFrontiers({});
-  ledger.OnGoal(7.0, 3, true, {}, -1);      // cancelled after its frontier went
-  ledger.OnGoal(8.0, 4, false, {0, 0}, -1);  // the way home
+  ledger.OnGoal(7.0, 3, true, {}, -1);                 // cancelled after its frontier went
+  ledger.OnGoal(8.0, 4, false, {0, 0}, -1);            // the way home
   ledger.OnNavStatus(9.0, 3, NavState::kReached, "");  // a late report of an ended goal
 
   const auto& g = ledger.goals();
