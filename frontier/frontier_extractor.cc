@@ -274,8 +274,15 @@ void ReachableCells::Compute(const Costmap& costmap, CellIndex start,
                        [](int col, const Run& run) { return col < run.col_begin; }) -
       runs_.begin() - 1));
   run_reachable_.resize(runs_.size());
+  std::size_t start_component_cells = 0;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     run_reachable_[i] = find(static_cast<int>(i)) == start_root;
+    if (run_reachable_[i]) start_component_cells += runs_[i].col_end - runs_[i].col_begin;
+  }
+  // A start shut in a pocket leaves it as the planner does (its start escape), not by components.
+  if (start_component_cells <= kStartPocketMaxCells) {
+    GlobalPlanner(options).Search(costmap, start, {}, &tree_);
+    use_tree_ = true;
   }
 }
 

@@ -37,8 +37,9 @@
 // one-to-all Search takes tens on a campus-sized map: each row's runs of traversable
 // cells, joined by union-find where they overlap a run of the row above (one pass over
 // the costs, then work per run, not per cell). When the robot's cell
-// is itself not traversable (pressed against a wall), the planner's start
-// escape decides, so one GlobalPlanner::Search from the robot is run instead.
+// is itself not traversable (pressed against a wall) or its component is a pocket of at most
+// kStartPocketMaxCells, the planner's start escape decides, so one GlobalPlanner::Search from
+// the robot is run instead.
 // frontier_extractor_test checks the two agree.
 
 #include <cstdint>
@@ -84,7 +85,8 @@ class ReachableCells {
 
   // Traversable and reachable from the start (false off the map).
   bool Reachable(CellIndex cell) const;
-  // True when the start was not traversable and a GlobalPlanner search decided.
+  // True when the start was not traversable, or shut in a pocket, and a GlobalPlanner search
+  // decided.
   bool used_planner_search() const { return use_tree_; }
 
  private:

@@ -284,6 +284,36 @@ TEST(FindFrontiers, FrontiersTheRobotCannotReachAreDropped) {
   ExpectTargetsReachable(map, in_b, from_b);
 }
 
+// Issue 15's dead-end pinch: the robot stands in a traversable pocket whose only gap the
+// inscribed zone closes (office, ags, seeds 1 and 5 stopped `done` there at 24 % and 48 %). The
+// frontiers outside must stay reachable, as the planner's start escape makes them.
+TEST(FindFrontiers, RobotShutInAPocketStillReachesTheFrontiersOutside) {
+  OccupancyGrid map(100, 60, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
+  for (int row = 0; row < 60; ++row) {
+    for (int col = 90; col < 100; ++col) map.at({col, row}) = OccupancyGrid::kUnknown;
+  }
+  for (int col = 40; col <= 60; ++col) {
+    map.at({col, 20}) = OccupancyGrid::kOccupied;
+    map.at({col, 36}) = OccupancyGrid::kOccupied;
+  }
+  for (int row = 20; row <= 36; ++row) {
+    map.at({60, row}) = OccupancyGrid::kOccupied;
+    if (row < 26 || row > 30) map.at({40, row}) = OccupancyGrid::kOccupied;  // a 0.25 m gap
+  }
+  const Point2d in_pocket = map.CellCenter({50, 28});
+  FrontierExtractionStats stats;
+  const std::vector<Frontier> frontiers = FindFrontiers(map, in_pocket, {}, &stats);
+  EXPECT_TRUE(stats.used_planner_search);
+  ASSERT_FALSE(frontiers.empty());
+  for (const Frontier& f : frontiers) EXPECT_GT(f.target_m.x_m, 60 * kRes);  // out of the box
+  ExpectTargetsReachable(map, in_pocket, frontiers);
+  // Outside the pocket nothing changes: the same frontiers, found by components.
+  const std::vector<Frontier> from_outside =
+      FindFrontiers(map, map.CellCenter({15, 28}), {}, &stats);
+  EXPECT_FALSE(stats.used_planner_search);
+  EXPECT_EQ(from_outside.size(), frontiers.size());
+}
+
 TEST(FindFrontiers, RobotAgainstAWallUsesThePlannerAndFindsTheSameTargets) {
   OccupancyGrid map = Room();
   EastDoor(&map, 25, 35);
@@ -484,7 +514,12 @@ TEST(ReachableCells, AgreesWithAGlobalPlannerSearchOnCampus) {
       }
       EXPECT_EQ(disagreements, 0);
       EXPECT_GT(reached, start == robot ? 100000 : 0);
-      EXPECT_EQ(reachable.used_planner_search(), !costmap.Traversable(start));
+      if (!costmap.Traversable(start)) {
+        EXPECT_TRUE(reachable.used_planner_search());
+      }
+      if (start == robot) {
+        EXPECT_FALSE(reachable.used_planner_search());
+      }
     }
   }
 }

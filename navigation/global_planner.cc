@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
+#include <utility>
 
 namespace aslam {
 namespace {
@@ -26,6 +28,28 @@ template <typename T>
   std::ostringstream message;
   message << "GlobalPlannerOptions." << name << " = " << value << ": " << why;
   throw std::invalid_argument(message.str());
+}
+
+// The traversable cells 4-connected to a traversable `start`, when they are at most
+// kStartPocketMaxCells: a pocket (e.g. between a pillar and a wall, whose gaps the inscribed
+// zone closes) that the robot can only have entered, and only leave, through inscribed cells.
+// Empty when the start's component is larger.
+
+std::vector<CellIndex> StartPocket(const Costmap& costmap, CellIndex start) {
+  std::vector<CellIndex> pocket{start};
+  std::unordered_set<std::size_t> seen{costmap.LinearIndex(start)};
+  for (std::size_t next = 0; next < pocket.size(); ++next) {
+    const CellIndex cell = pocket[next];
+    for (const auto& [dc, dr] :
+         {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+      const CellIndex neighbour{cell.col + dc, cell.row + dr};
+      if (!costmap.Contains(neighbour) || costmap.cost(neighbour) >= Costmap::kInscribed) continue;
+      if (!seen.insert(costmap.LinearIndex(neighbour)).second) continue;
+      if (pocket.size() >= kStartPocketMaxCells) return {};
+      pocket.push_back(neighbour);
+    }
+  }
+  return pocket;
 }
 
 }  // namespace
@@ -152,16 +176,29 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
   const int32_t start_index = t.PaddedIndex(start);
   if (start_index < 0) return;
 
-  // Start escape: inscribed cells near a start that is itself not traversable.
-  if (costs[costmap.LinearIndex(start)] >= Costmap::kInscribed && options_.start_escape_m > 0.0) {
-    const double radius_cells = options_.start_escape_m / costmap.resolution_m();
+  // Start escape: inscribed cells near a start that is itself not traversable, or near the
+  // pocket of traversable cells the start is shut in (the robot got there, so it can leave).
+  if (options_.start_escape_m > 0.0 && model != CostModel::kLowerBound) {
+    std::vector<CellIndex> escape_from;
+    double escape_m = options_.start_escape_m;
+    if (costs[costmap.LinearIndex(start)] >= Costmap::kInscribed) {
+      escape_from.push_back(start);
+    } else {
+      escape_from = StartPocket(costmap, start);
+      // A gap's inscribed cells reach an inscribed radius into the pocket and out of it.
+      const CostmapOptions& c = costmap.options();
+      escape_m += c.robot_radius_m + c.clearance_margin_m;
+    }
+    const double radius_cells = escape_m / costmap.resolution_m();
     const int reach = static_cast<int>(std::floor(radius_cells));
-    for (int dr = -reach; dr <= reach; ++dr) {
-      for (int dc = -reach; dc <= reach; ++dc) {
-        const CellIndex cell{start.col + dc, start.row + dr};
-        if (!costmap.Contains(cell) || dc * dc + dr * dr > radius_cells * radius_cells) continue;
-        if (costmap.cost(cell) == Costmap::kInscribed) {
-          cell_class[t.PaddedIndex(cell)] |= kEscapeBit;
+    for (const CellIndex& from : escape_from) {
+      for (int dr = -reach; dr <= reach; ++dr) {
+        for (int dc = -reach; dc <= reach; ++dc) {
+          const CellIndex cell{from.col + dc, from.row + dr};
+          if (!costmap.Contains(cell) || dc * dc + dr * dr > radius_cells * radius_cells) continue;
+          if (costmap.cost(cell) == Costmap::kInscribed) {
+            cell_class[t.PaddedIndex(cell)] |= kEscapeBit;
+          }
         }
       }
     }

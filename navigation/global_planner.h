@@ -25,12 +25,19 @@
 
 namespace aslam {
 
+// A traversable start whose 4-connected traversable cells number at most this (1 m² at 5 cm) is
+// shut in a pocket, and escapes it (GlobalPlannerOptions::start_escape_m).
+inline constexpr std::size_t kStartPocketMaxCells = 400;
+
 struct GlobalPlannerOptions {
   double cost_weight = 3.0;  // how strongly inflation costs push paths off walls
   // A start cell inside the inscribed zone (robot pressed against a wall) may
   // still be left: the search may cross non-lethal inscribed cells this far
   // (cell centres within this distance of the start's centre; only when the
-  // start cell itself is not traversable). They cost as a cost-253 cell.
+  // start cell itself is not traversable). They cost as a cost-253 cell. A start
+  // shut in a pocket of at most 1 m² of traversable cells (gaps the inscribed zone
+  // closes) escapes from every cell of the pocket, this far plus the inscribed radius
+  // (robot radius and clearance margin), so the way out spans a gap's inscribed cells.
   double start_escape_m = 0.3;
 
   // Throws std::invalid_argument naming the field and value.
