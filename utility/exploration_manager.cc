@@ -198,27 +198,41 @@ ExploreActions ExplorationManager::OnDecision(const GoalDecision& decision) {
   return actions;
 }
 
-bool ExplorationRecord::operator==(const ExplorationRecord& o) const {
-  if (decisions != o.decisions || goals_reached != o.goals_reached ||
-      goals_failed != o.goals_failed || next_goal_id != o.next_goal_id ||
-      blacklist_m.size() != o.blacklist_m.size() || home_m.has_value() != o.home_m.has_value() ||
-      mode != o.mode || paused_while_returning != o.paused_while_returning ||
-      ends_done != o.ends_done || end_detail != o.end_detail) {
-    return false;
+void ExplorationManager::ForgiveBlacklist(const std::vector<std::size_t>& indices) {
+  std::vector<Point2d> kept;
+  for (std::size_t i = 0; i < blacklist_m_.size(); ++i) {
+    const bool forgiven = std::find(indices.begin(), indices.end(), i) != indices.end();
+    (forgiven ? retried_m_ : kept).push_back(blacklist_m_[i]);
   }
-  if (home_m && (home_m->x_m != o.home_m->x_m || home_m->y_m != o.home_m->y_m)) return false;
-  for (std::size_t i = 0; i < blacklist_m.size(); ++i) {
-    if (blacklist_m[i].x_m != o.blacklist_m[i].x_m || blacklist_m[i].y_m != o.blacklist_m[i].y_m) {
-      return false;
-    }
+  blacklist_m_ = std::move(kept);
+}
+
+namespace {
+bool SamePoints(const std::vector<Point2d>& a, const std::vector<Point2d>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].x_m != b[i].x_m || a[i].y_m != b[i].y_m) return false;
   }
   return true;
 }
+}  // namespace
+
+bool ExplorationRecord::operator==(const ExplorationRecord& o) const {
+  if (decisions != o.decisions || goals_reached != o.goals_reached ||
+      goals_failed != o.goals_failed || next_goal_id != o.next_goal_id ||
+      !SamePoints(blacklist_m, o.blacklist_m) || !SamePoints(retried_m, o.retried_m) ||
+      home_m.has_value() != o.home_m.has_value() || mode != o.mode ||
+      paused_while_returning != o.paused_while_returning || ends_done != o.ends_done ||
+      end_detail != o.end_detail) {
+    return false;
+  }
+  return !home_m || (home_m->x_m == o.home_m->x_m && home_m->y_m == o.home_m->y_m);
+}
 
 ExplorationRecord ExplorationManager::record() const {
-  return ExplorationRecord{decisions_,   goals_reached_, goals_failed_, next_goal_id_,
-                           blacklist_m_, home_m_,        mode_,         paused_while_returning_,
-                           ends_done_,   end_detail_};
+  return ExplorationRecord{
+      decisions_, goals_reached_, goals_failed_,           next_goal_id_, blacklist_m_, retried_m_,
+      home_m_,    mode_,          paused_while_returning_, ends_done_,    end_detail_};
 }
 
 void ExplorationManager::Restore(const ExplorationRecord& record) {
@@ -226,9 +240,11 @@ void ExplorationManager::Restore(const ExplorationRecord& record) {
       record.next_goal_id < 0) {
     throw std::invalid_argument("exploration record: counts and goal ids must be >= 0");
   }
-  for (const Point2d& p : record.blacklist_m) {
-    if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m)) {
-      throw std::invalid_argument("exploration record: a blacklist point is not finite");
+  for (const auto* points : {&record.blacklist_m, &record.retried_m}) {
+    for (const Point2d& p : *points) {
+      if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m)) {
+        throw std::invalid_argument("exploration record: a blacklist point is not finite");
+      }
     }
   }
   if (record.home_m && (!std::isfinite(record.home_m->x_m) || !std::isfinite(record.home_m->y_m))) {
@@ -242,6 +258,7 @@ void ExplorationManager::Restore(const ExplorationRecord& record) {
   goals_failed_ = record.goals_failed;
   next_goal_id_ = record.next_goal_id;
   blacklist_m_ = record.blacklist_m;
+  retried_m_ = record.retried_m;
   home_m_ = record.home_m;
   mode_ = record.mode;
   paused_while_returning_ = record.paused_while_returning;

@@ -105,7 +105,8 @@ struct ExplorationRecord {
   int goals_failed = 0;
   int64_t next_goal_id = 0;
   std::vector<Point2d> blacklist_m;
-  std::optional<Point2d> home_m;  // the first SLAM_POSE ("map"); none before it
+  std::vector<Point2d> retried_m;  // blacklist points forgiven once (ForgiveBlacklist)
+  std::optional<Point2d> home_m;   // the first SLAM_POSE ("map"); none before it
   ControlMode mode = ControlMode::kExploring;
   bool paused_while_returning = false;  // what RESUME goes back to
   bool ends_done = false;  // kReturning, kEnded: done (return_home) rather than stopped
@@ -138,8 +139,14 @@ class ExplorationManager {
   const StampedPose& pose() const { return *pose_; }
   const PoseGraph& graph() const { return graph_; }  // empty before the first
   const std::vector<Frontier>& frontiers() const { return frontiers_->frontiers; }
-  // Targets of reached and failed goals ("map"); never shrinks.
+  // Targets of reached and failed goals ("map"), but for those forgiven.
   const std::vector<Point2d>& blacklist_m() const { return blacklist_m_; }
+  // Blacklist points forgiven so far; never shrinks.
+  const std::vector<Point2d>& retried_m() const { return retried_m_; }
+  // Before the exploration is done with reachable frontiers left, their blacklist points
+  // (indices into blacklist_m(), GoalSelector::PointsToRetry) are forgiven once: moved to
+  // retried_m(). Call it before OnDecision.
+  void ForgiveBlacklist(const std::vector<std::size_t>& indices);
   // Where the exploration started: the first SLAM_POSE ("map"), where return home drives to.
   const std::optional<Point2d>& home_m() const { return home_m_; }
   ControlMode mode() const { return mode_; }
@@ -202,6 +209,7 @@ class ExplorationManager {
   std::optional<ActiveGoal> goal_;
   int64_t next_goal_id_ = 0;
   std::vector<Point2d> blacklist_m_;
+  std::vector<Point2d> retried_m_;
   std::optional<int64_t> no_eligible_since_utime_;
   int last_num_eligible_ = 0;
   int decisions_ = 0;

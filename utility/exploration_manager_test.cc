@@ -242,6 +242,24 @@ TEST(ExplorationManager, ReachedFailedAndUnreachableBlacklistCountAndDecide) {
   EXPECT_FALSE(m.OnNavStatus(Nav(5'500'000, 2, NavState::kIdle)).decision.has_value());
 }
 
+TEST(ExplorationManager, ForgivenBlacklistPointsMoveToRetriedAndStayInTheRecord) {
+  ExplorationManager m = Manager();
+  FirstGoal(m);
+  m.OnNavStatus(Nav(3 * kSecond, 0, NavState::kFailed));
+  m.OnDecision(Chose(9, kFar));
+  m.OnNavStatus(Nav(4 * kSecond, 1, NavState::kReached));
+  ASSERT_EQ(m.blacklist_m().size(), 2u);
+  m.ForgiveBlacklist({0});
+  ASSERT_EQ(m.blacklist_m().size(), 1u);
+  EXPECT_DOUBLE_EQ(m.blacklist_m()[0].x_m, kFar.x_m);
+  ASSERT_EQ(m.retried_m().size(), 1u);
+  EXPECT_DOUBLE_EQ(m.retried_m()[0].x_m, kNear.x_m);
+  ExplorationManager restored = Manager();
+  restored.Restore(m.record());
+  EXPECT_TRUE(restored.record() == m.record());
+  EXPECT_EQ(restored.retried_m().size(), 1u);
+}
+
 TEST(ExplorationManager, ARestoredRecordCarriesOnCountersIdsAndBlacklist) {
   ExplorationManager before = Manager();
   FirstGoal(before);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 namespace aslam {
@@ -24,6 +25,18 @@ const char* ModeName(ControlMode mode) {
   return "?";
 }
 
+// [[x, y], ...] at the stream's precision.
+std::string PointsYaml(const std::vector<Point2d>& points) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "[";
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    out << (i ? ", " : "") << "[" << points[i].x_m << ", " << points[i].y_m << "]";
+  }
+  out << "]";
+  return out.str();
+}
+
 }  // namespace
 
 std::string ExplorationRecordToYaml(const ExplorationRecord& record) {
@@ -34,12 +47,8 @@ std::string ExplorationRecordToYaml(const ExplorationRecord& record) {
       << "goals_reached: " << record.goals_reached << "\n"
       << "goals_failed: " << record.goals_failed << "\n"
       << "next_goal_id: " << record.next_goal_id << "\n"
-      << "blacklist_m: [";
-  for (std::size_t i = 0; i < record.blacklist_m.size(); ++i) {
-    out << (i ? ", " : "") << "[" << record.blacklist_m[i].x_m << ", " << record.blacklist_m[i].y_m
-        << "]";
-  }
-  out << "]\n";
+      << "blacklist_m: " << PointsYaml(record.blacklist_m) << "\n"
+      << "retried_m: " << PointsYaml(record.retried_m) << "\n";
   if (record.home_m)
     out << "home_m: [" << record.home_m->x_m << ", " << record.home_m->y_m << "]\n";
   out << "mode: " << ModeName(record.mode) << "\n"
@@ -73,13 +82,18 @@ ExplorationRecord LoadExplorationRecord(const std::string& path) {
   read("goals_reached", &record.goals_reached);
   read("goals_failed", &record.goals_failed);
   read("next_goal_id", &record.next_goal_id);
-  std::vector<std::vector<double>> points;
-  read("blacklist_m", &points);
-  for (const std::vector<double>& p : points) {
-    if (p.size() != 2 || !std::isfinite(p[0]) || !std::isfinite(p[1])) {
-      throw std::runtime_error(path + ": key blacklist_m: every point must be [x, y], finite");
+  // retried_m came later than blacklist_m: optional, so older files still load.
+  for (const auto& [key, points_out, optional] :
+       {std::tuple{"blacklist_m", &record.blacklist_m, false},
+        std::tuple{"retried_m", &record.retried_m, true}}) {
+    std::vector<std::vector<double>> points;
+    read(key, &points, optional);
+    for (const std::vector<double>& p : points) {
+      if (p.size() != 2 || !std::isfinite(p[0]) || !std::isfinite(p[1])) {
+        throw std::runtime_error(path + ": key " + key + ": every point must be [x, y], finite");
+      }
+      points_out->push_back({p[0], p[1]});
     }
-    record.blacklist_m.push_back({p[0], p[1]});
   }
   std::vector<double> home;
   read("home_m", &home, /*optional=*/true);

@@ -35,6 +35,7 @@ TEST_F(StateFile, RoundTripsExactly) {
   record.goals_failed = 6;
   record.next_goal_id = 16;
   record.blacklist_m = {{1.0 / 3.0, -2.5}, {1e-9, 42.125}};
+  record.retried_m = {{-7.75, 0.1}};
   Write(ExplorationRecordToYaml(record));
   EXPECT_TRUE(LoadExplorationRecord(path_) == record);
   Write(ExplorationRecordToYaml(ExplorationRecord{}));

@@ -258,4 +258,26 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
   return decision;
 }
 
+std::vector<std::size_t> GoalSelector::PointsToRetry(const GoalDecision& decision,
+                                                     const std::vector<Point2d>& blacklist_m,
+                                                     const std::vector<Point2d>& retried_m) const {
+  const double radius_m = options_.blacklist_radius_m;
+  std::vector<std::size_t> forgive;
+  for (const FrontierScore& score : decision.scores) {
+    if (score.eligibility != Eligibility::kBlacklisted) continue;
+    std::vector<std::size_t> blocking;
+    bool retried_before = false;
+    for (std::size_t i = 0; i < blacklist_m.size(); ++i) {
+      if (!Blacklisted(score.target_m, {blacklist_m[i]}, radius_m)) continue;
+      retried_before = retried_before || Blacklisted(blacklist_m[i], retried_m, radius_m);
+      blocking.push_back(i);
+    }
+    if (retried_before) continue;
+    forgive.insert(forgive.end(), blocking.begin(), blocking.end());
+  }
+  std::sort(forgive.begin(), forgive.end());
+  forgive.erase(std::unique(forgive.begin(), forgive.end()), forgive.end());
+  return forgive;
+}
+
 }  // namespace aslam

@@ -119,6 +119,14 @@ class GoalSelector {
                       const std::vector<Frontier>& frontiers,
                       const std::vector<Point2d>& blacklist_m);
 
+  // The last pass before nothing is eligible: the blacklist points (indices into `blacklist_m`)
+  // to forgive so that the reachable frontiers `decision` found blacklisted are tried once
+  // more. A point within blacklist_radius_m of one in `retried_m` (forgiven before) is not
+  // forgiven again, and a frontier such a point still blocks is left out.
+  std::vector<std::size_t> PointsToRetry(const GoalDecision& decision,
+                                         const std::vector<Point2d>& blacklist_m,
+                                         const std::vector<Point2d>& retried_m) const;
+
   const GoalSelectorOptions& options() const { return options_; }
 
  private:

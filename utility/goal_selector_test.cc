@@ -372,5 +372,24 @@ TEST(GoalSelector, MethodNamesAndBadOptions) {
   EXPECT_THROW(GoalSelector{bad}, std::invalid_argument);
 }
 
+TEST(GoalSelectorTest, PointsToRetryForgiveOnlyWhatBlocksABlacklistedFrontierOnce) {
+  GoalSelector selector{GoalSelectorOptions{}};  // blacklist radius 0.5 m
+  GoalDecision decision;
+  FrontierScore blocked, reachable, unreachable;
+  blocked.target_m = {2.0, 0.0};
+  blocked.eligibility = Eligibility::kBlacklisted;
+  reachable.target_m = {5.0, 0.0};  // eligible: nothing to forgive for it
+  unreachable.target_m = {8.0, 0.0};
+  unreachable.eligibility = Eligibility::kUnreachable;
+  decision.scores = {blocked, reachable, unreachable};
+  const std::vector<Point2d> blacklist = {
+      {2.3, 0.0}, {5.2, 0.0}, {2.0, 0.4}, {8.0, 0.0}, {9.0, 0.0}};
+  EXPECT_EQ(selector.PointsToRetry(decision, blacklist, {}), (std::vector<std::size_t>{0, 2}));
+  // Once one of its points was forgiven before, the frontier is not retried again.
+  EXPECT_TRUE(selector.PointsToRetry(decision, blacklist, {{2.1, 0.1}}).empty());
+  EXPECT_EQ(selector.PointsToRetry(decision, blacklist, {{9.0, 0.0}}),
+            (std::vector<std::size_t>{0, 2}));
+}
+
 }  // namespace
 }  // namespace aslam

@@ -115,6 +115,16 @@ void UtilityNode::Decide(const DecisionRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   GoalDecision decision = selector_.Decide(manager_.map(), robot, manager_.graph(),
                                            manager_.frontiers(), manager_.blacklist_m());
+  if (!decision.has_goal()) {
+    // Reachable frontiers that only the blacklist keeps out get one more try before done.
+    const std::vector<std::size_t> retry =
+        selector_.PointsToRetry(decision, manager_.blacklist_m(), manager_.retried_m());
+    if (!retry.empty()) {
+      manager_.ForgiveBlacklist(retry);
+      decision = selector_.Decide(manager_.map(), robot, manager_.graph(), manager_.frontiers(),
+                                  manager_.blacklist_m());
+    }
+  }
   last_compute_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const utility_scores_t scores = ScoresToLcm(decision, request.utime, request.decision_id,

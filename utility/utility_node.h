@@ -44,8 +44,9 @@ class UtilityNode {
   int goals_failed() const { return manager_.goals_failed(); }
   // -1 when no goal is being pursued.
   int64_t current_goal_id() const { return manager_.current_goal_id(); }
-  // Targets of reached and failed goals ("map").
+  // Targets of reached and failed goals ("map"), and those forgiven once (tried again).
   const std::vector<Point2d>& blacklist_m() const { return manager_.blacklist_m(); }
+  const std::vector<Point2d>& retried_m() const { return manager_.retried_m(); }
   // The latest decision and its wall-clock cost (diagnostic).
   const std::optional<GoalDecision>& last_decision() const { return last_decision_; }
   double last_compute_ms() const { return last_compute_ms_; }

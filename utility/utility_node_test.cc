@@ -320,29 +320,29 @@ TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
   bench.Nav(5'100'000, 0, nav_status_t::STATE_REACHED);
   EXPECT_EQ(bench.scores.size(), 2u);
 
-  // Failed: blacklisted and counted; nothing eligible is left, so no goal.
+  // Failed: blacklisted and counted. Nothing else is eligible, so the two blacklisted frontiers
+  // get one more try, the nearer first (ABlacklistedReachableFrontierIsTriedOnceMoreBeforeDone).
   bench.Nav(6'000'000, 1, nav_status_t::STATE_FAILED);
   ASSERT_EQ(bench.scores.size(), 3u);
-  EXPECT_EQ(bench.scores[2].chosen_frontier_id, -1);
-  EXPECT_EQ(bench.scores[2].scores[0].ineligible_reason, frontier_score_t::INELIGIBLE_BLACKLISTED);
-  EXPECT_EQ(bench.goals.size(), 2u);  // no cancel: the navigator already gave up
+  EXPECT_EQ(bench.scores[2].chosen_frontier_id, 7);
   EXPECT_EQ(bench.node().goals_failed(), 1);
-  EXPECT_EQ(bench.node().current_goal_id(), -1);
+  EXPECT_TRUE(bench.node().blacklist_m().empty());
+  EXPECT_EQ(bench.node().retried_m().size(), 2u);
+  ASSERT_EQ(bench.goals.size(), 3u);
+  EXPECT_EQ(bench.goals[2].goal_id, 2);
   const explore_status_t& status = bench.statuses.back();
-  EXPECT_EQ(status.state, explore_status_t::STATE_EXPLORING);  // not yet done: no timeout passed
+  EXPECT_EQ(status.state, explore_status_t::STATE_EXPLORING);
   EXPECT_EQ(status.decisions, 3);
   EXPECT_EQ(status.goals_reached, 1);
   EXPECT_EQ(status.goals_failed, 1);
-  EXPECT_EQ(status.num_eligible, 0);
-  EXPECT_EQ(status.current_goal_id, -1);
+  EXPECT_EQ(status.current_goal_id, 2);
 
-  // Unreachable counts as failed too.
-  bench.Frontiers(7'000'000, {MakeFrontier(11, kNorth)});
-  ASSERT_EQ(bench.goals.size(), 3u);
-  EXPECT_EQ(bench.goals[2].goal_id, 2);
+  // Unreachable counts as failed too; frontier 7 was tried twice, so only 9 is left.
   bench.Nav(7'100'000, 2, nav_status_t::STATE_UNREACHABLE);
   EXPECT_EQ(bench.node().goals_failed(), 2);
-  EXPECT_EQ(bench.node().blacklist_m().size(), 3u);
+  EXPECT_EQ(bench.node().blacklist_m().size(), 1u);
+  ASSERT_EQ(bench.goals.size(), 4u);
+  EXPECT_EQ(bench.goals[3].frontier_id, 9);
   EXPECT_EQ(bench.node().subscriptions().total_dropped(), 0);
 }
 
@@ -407,6 +407,34 @@ TEST(UtilityNode, DoneAfterTheTimeoutWithoutAnEligibleFrontier) {
   ASSERT_EQ(bench.goals.size(), 1u);
   EXPECT_EQ(bench.goals[0].frontier_id, 3);
   EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_EXPLORING);
+}
+
+// Issue 15: fd ended `done` with reachable frontiers left, all blacklisted by earlier goals. A
+// reachable frontier that only the blacklist keeps out is tried once more; only when that goal
+// ends too does the exploration end.
+TEST(UtilityNode, ABlacklistedReachableFrontierIsTriedOnceMoreBeforeDone) {
+  Bench bench(UtilityMethod::kFd, /*done_timeout_s=*/5.0);
+  bench.Map(1 * kSecond);
+  bench.Pose(1 * kSecond);
+  bench.Frontiers(1 * kSecond, {MakeFrontier(7, kNear)});
+  ASSERT_EQ(bench.goals.size(), 1u);
+  bench.Nav(2 * kSecond, 0, nav_status_t::STATE_FAILED);  // blacklists kNear
+  ASSERT_EQ(bench.scores.size(), 2u);
+  ASSERT_EQ(bench.goals.size(), 2u) << "the frontier was not tried again";
+  EXPECT_EQ(bench.goals[1].goal_id, 1);
+  EXPECT_EQ(bench.goals[1].frontier_id, 7);
+  EXPECT_EQ(bench.scores[1].chosen_frontier_id, 7);
+  EXPECT_TRUE(bench.node().blacklist_m().empty());
+  ASSERT_EQ(bench.node().retried_m().size(), 1u);
+
+  // The second try fails too: now nothing is eligible, for good, and the exploration ends.
+  bench.Nav(3 * kSecond, 1, nav_status_t::STATE_FAILED);
+  ASSERT_EQ(bench.scores.size(), 3u);
+  EXPECT_EQ(bench.scores[2].chosen_frontier_id, -1);
+  EXPECT_EQ(bench.goals.size(), 2u);
+  for (int64_t t = 3'500'000; t <= 9 * kSecond; t += 500'000) bench.Pose(t);
+  EXPECT_EQ(bench.statuses.back().state, explore_status_t::STATE_DONE);
+  EXPECT_EQ(bench.statuses.back().goals_failed, 2);
 }
 
 TEST(UtilityNode, AVanishedFrontierTriggersADecisionAndNothingLeftCancels) {
