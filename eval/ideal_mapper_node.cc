@@ -2,12 +2,12 @@
 
 #include <cmath>
 
-#include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/channels.h"
 #include "common/types_lcm.h"
+#include "slam/slam_lcm.h"
 
 namespace aslam {
 
@@ -68,15 +68,8 @@ void IdealMapperNode::MapScan(const LidarScan& scan) {
     published_keyframes_ = mapper_.graph().nodes.size();
   }
   if (mapper_.map_revision() != published_map_revision_) {
-    const OccupancyGrid map = mapper_.RenderMap();
-    if (node_options_.map_encoding == SlamNodeOptions::MapEncoding::kRaw) {
-      const occupancy_grid_t msg = ToLcm(map, scan.utime, mapper_.map_revision(), kMapFrame);
-      lcm_.publish(channels::kSlamMap, &msg);
-    } else {
-      const compressed_occupancy_grid_t msg =
-          ToCompressedLcm(map, scan.utime, mapper_.map_revision(), kMapFrame);
-      lcm_.publish(channels::kSlamMap, &msg);
-    }
+    PublishSlamMap(lcm_, mapper_.RenderMap(), scan.utime, mapper_.map_revision(),
+                   node_options_.map_encoding);
     published_map_revision_ = mapper_.map_revision();
   }
   last_map_utime_ = scan.utime;

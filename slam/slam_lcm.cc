@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "common/channels.h"
 #include "common/types_lcm.h"
 
 namespace aslam {
@@ -28,6 +29,17 @@ pose_graph_t SlamGraphToLcm(const Slam& slam, int64_t utime) {
   return ToLcm(slam.graph(), utime, slam.graph_revision(),
                Saturated(counters.loop_closures_accepted),
                Saturated(counters.loop_closures_rejected));
+}
+
+void PublishSlamMap(lcm::LCM& lcm, const OccupancyGrid& map, int64_t utime, int64_t revision,
+                    SlamNodeOptions::MapEncoding encoding) {
+  if (encoding == SlamNodeOptions::MapEncoding::kRaw) {
+    const occupancy_grid_t msg = ToLcm(map, utime, revision, kMapFrame);
+    lcm.publish(channels::kSlamMap, &msg);
+  } else {
+    const compressed_occupancy_grid_t msg = ToCompressedLcm(map, utime, revision, kMapFrame);
+    lcm.publish(channels::kSlamMap, &msg);
+  }
 }
 
 }  // namespace aslam

@@ -97,14 +97,7 @@ void SlamNode::PublishGraph(int64_t utime) {
 void SlamNode::PublishMap(int64_t utime) {
   const OccupancyGrid map = slam_.RenderMap();
   if (map.empty()) return;
-  if (node_options_.map_encoding == SlamNodeOptions::MapEncoding::kRaw) {
-    const occupancy_grid_t msg = ToLcm(map, utime, slam_.map_revision(), kMapFrame);
-    lcm_.publish(channels::kSlamMap, &msg);
-  } else {
-    const compressed_occupancy_grid_t msg =
-        ToCompressedLcm(map, utime, slam_.map_revision(), kMapFrame);
-    lcm_.publish(channels::kSlamMap, &msg);
-  }
+  PublishSlamMap(lcm_, map, utime, slam_.map_revision(), node_options_.map_encoding);
   published_map_revision_ = slam_.map_revision();
   last_map_utime_ = utime;
   ++maps_published_;
