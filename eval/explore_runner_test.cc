@@ -12,6 +12,7 @@
 #include "common/config.h"
 #include "common/map_io.h"
 #include "common/test_temp_dir.h"
+#include "eval/explore_process.h"
 #include "eval/run_outputs.h"
 #include "slam/g2o_io.h"
 
@@ -300,6 +301,17 @@ TEST(ExploreRunnerTest, BadInputsThrowBeforeRunning) {
   EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
   o = TestWorld("ideal ");
   EXPECT_THROW(RunExploreInProcess(o), std::invalid_argument);
+  // The ideal reads SIM_TRUTH in SLAM's place: process mode refuses it before starting anything.
+  ExploreProcessOptions process;
+  process.explore = TestWorld("ideal");
+  process.out_dir = TestTempPath("ideal_process");
+  try {
+    RunExploreProcess(process);
+    ADD_FAILURE() << "process mode ran the ideal explorer";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--inproc"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(process.out_dir));
   o = TestWorld("fd");
   o.world = kRoot + "/worlds/no_such_world";
   EXPECT_THROW(RunExploreInProcess(o), std::exception);

@@ -1,8 +1,12 @@
+#include <fcntl.h>
 #include <netinet/in.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <thread>
@@ -72,6 +76,21 @@ TEST(SerialPort, AnUnpluggedDeviceFailsReadsWithTheName) {
   const std::string error = ErrorOf([&] { port.Read(&byte, 1, 200); });
   EXPECT_NE(error.find(device.slave_path()), std::string::npos) << error;
   EXPECT_NE(error.find("gone"), std::string::npos) << error;
+}
+
+// A driver that lost its device reopens the port: closing must release the exclusive lock,
+// which otherwise stays on a tty another fd holds (this emulator's slave end) and refuses the
+// reopen with EBUSY (to any process without CAP_SYS_ADMIN, e.g. in a private namespace).
+TEST(SerialPort, ClosingReleasesTheExclusiveLock) {
+  PseudoTerminal device;
+  { SerialPort port(device.slave_path(), 115200); }
+  const int fd = ::open(device.slave_path().c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  ASSERT_GE(fd, 0) << device.slave_path() << ": " << std::strerror(errno);
+  int exclusive = -1;
+  ASSERT_EQ(::ioctl(fd, TIOCGEXCL, &exclusive), 0) << std::strerror(errno);
+  ::close(fd);
+  EXPECT_EQ(exclusive, 0);
+  SerialPort again(device.slave_path(), 115200);  // and the driver itself can open it again
 }
 
 TEST(SerialPort, OpenFailuresNameThePortAndTheCause) {

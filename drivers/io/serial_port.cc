@@ -67,7 +67,11 @@ SerialPort::SerialPort(const std::string& path, int baud) : path_(path), baud_(b
 }
 
 SerialPort::~SerialPort() {
-  if (fd_ >= 0) ::close(fd_);
+  if (fd_ < 0) return;
+  // TIOCEXCL stays on the tty while any other fd holds it (an emulator's pseudo-terminal, a
+  // serial console): released, so this driver can open the port again after a reconnect.
+  ::ioctl(fd_, TIOCNXCL);
+  ::close(fd_);
 }
 
 std::size_t SerialPort::Read(uint8_t* data, std::size_t size, int timeout_ms) {

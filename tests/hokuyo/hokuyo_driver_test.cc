@@ -651,8 +651,6 @@ TEST(HokuyoSerialTest, GarbageOnlyDeviceGivesAClearErrorNotAHang) {
   ASSERT_TRUE(WaitFor([&] { return running.driver().stats().reconnects >= 2; }));
   running.Stop();
   EXPECT_EQ(running.num_scans(), 0u);
-  // (The log, not last_error: a non-root reopen of this pseudo-terminal gets EBUSY from
-  // SerialPort's TIOCEXCL, as the emulator keeps the slave open.)
   EXPECT_NE(running.log().find("not in SCIP 2.0"), std::string::npos) << running.log();
 }
 
