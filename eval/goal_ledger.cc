@@ -1,9 +1,9 @@
 #include "eval/goal_ledger.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <map>
+#include <regex>
 
 namespace aslam {
 
@@ -21,43 +21,10 @@ const char* GoalOutcomeName(GoalOutcome outcome) {
 }
 
 std::string GoalFailureCategory(const std::string& detail) {
-  std::string out;
-  std::size_t i = 0;
-  auto number_at = [&detail](std::size_t at) {
-    const bool sign = at < detail.size() && (detail[at] == '-' || detail[at] == '+');
-    const std::size_t digit = at + (sign ? 1 : 0);
-    return digit < detail.size() && std::isdigit(static_cast<unsigned char>(detail[digit]));
-  };
-  auto skip_number = [&detail](std::size_t at) {
-    if (detail[at] == '-' || detail[at] == '+') ++at;
-    while (at < detail.size() && (std::isdigit(static_cast<unsigned char>(detail[at])) ||
-                                  detail[at] == '.' || detail[at] == 'e')) {
-      ++at;
-    }
-    return at;
-  };
-  while (i < detail.size()) {
-    // "(1.25, -3.5)": a point.
-    if (detail[i] == '(' && number_at(i + 1)) {
-      std::size_t j = skip_number(i + 1);
-      if (j + 1 < detail.size() && detail[j] == ',' && detail[j + 1] == ' ' && number_at(j + 2)) {
-        j = skip_number(j + 2);
-        if (j < detail.size() && detail[j] == ')') {
-          out += "(x; y)";
-          i = j + 1;
-          continue;
-        }
-      }
-    }
-    const bool starts_word = i == 0 || !std::isalnum(static_cast<unsigned char>(detail[i - 1]));
-    if (starts_word && number_at(i)) {
-      out += 'N';
-      i = skip_number(i);
-      continue;
-    }
-    out += detail[i++];
-  }
-  return out;
+  static const std::regex kPoint(R"(\(-?\d+(\.\d+)?, -?\d+(\.\d+)?\))");
+  // A number standing alone: "A2" is a name and stays.
+  static const std::regex kNumber(R"(-?\b\d+(\.\d+)?\b)");
+  return std::regex_replace(std::regex_replace(detail, kPoint, "(x; y)"), kNumber, "N");
 }
 
 void GoalLedger::OnScores(int chosen_frontier_id, double chosen_path_length_m) {

@@ -5,7 +5,7 @@
 namespace aslam {
 namespace {
 
-TEST(GoalFailureCategory, NumbersAndPointsBecomePlaceholders) {
+TEST(GoalFailureCategory, NumbersBecomeNAndPointsXY) {
   EXPECT_EQ(GoalFailureCategory("no progress for 20 s after 3 recoveries"),
             "no progress for N s after N recoveries");
   EXPECT_EQ(GoalFailureCategory("no path from (1.25, -3.50) to goal (4.00, 5.5) in the costmap"),

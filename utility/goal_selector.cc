@@ -57,11 +57,13 @@ std::optional<CellIndex> GoalCell(const ShortestPathTree& tree, const Costmap& c
   return best;
 }
 
+bool Within(Point2d a, Point2d b, double radius_m) {
+  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m) <= radius_m;
+}
+
 bool Blacklisted(Point2d target_m, const std::vector<Point2d>& blacklist_m, double radius_m) {
-  for (const Point2d& p : blacklist_m) {
-    if (std::hypot(target_m.x_m - p.x_m, target_m.y_m - p.y_m) <= radius_m) return true;
-  }
-  return false;
+  return std::any_of(blacklist_m.begin(), blacklist_m.end(),
+                     [&](const Point2d& p) { return Within(target_m, p, radius_m); });
 }
 
 // a beats b: higher total; near-equal totals go to the shorter path (then the earlier index).
@@ -268,7 +270,7 @@ std::vector<std::size_t> GoalSelector::PointsToRetry(const GoalDecision& decisio
     std::vector<std::size_t> blocking;
     bool retried_before = false;
     for (std::size_t i = 0; i < blacklist_m.size(); ++i) {
-      if (!Blacklisted(score.target_m, {blacklist_m[i]}, radius_m)) continue;
+      if (!Within(score.target_m, blacklist_m[i], radius_m)) continue;
       retried_before = retried_before || Blacklisted(blacklist_m[i], retried_m, radius_m);
       blocking.push_back(i);
     }
