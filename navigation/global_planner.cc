@@ -388,4 +388,41 @@ std::optional<GlobalPath> GlobalPlanner::Plan(const Costmap& costmap, Point2d st
   return tree.PathTo(goal);
 }
 
+std::vector<CellIndex> GoalSnapCandidates(const Costmap& costmap, CellIndex goal, double radius_m) {
+  std::vector<CellIndex> candidates;
+  const double radius_cells = radius_m / costmap.resolution_m();
+  const int reach = static_cast<int>(std::floor(radius_cells));
+  for (int dr = -reach; dr <= reach; ++dr) {
+    for (int dc = -reach; dc <= reach; ++dc) {
+      const CellIndex cell{goal.col + dc, goal.row + dr};
+      if (dc * dc + dr * dr > radius_cells * radius_cells || !costmap.Contains(cell) ||
+          !costmap.Traversable(cell)) {
+        continue;
+      }
+      const bool sees_goal = VisitLine(
+          cell, goal, [&](CellIndex c) { return c == goal || costmap.cost(c) < Costmap::kLethal; });
+      if (sees_goal) candidates.push_back(cell);
+    }
+  }
+  return candidates;
+}
+
+std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, const Costmap& costmap,
+                                           CellIndex goal, double snap_radius_m) {
+  if (tree.Reachable(goal)) return goal;
+  std::optional<CellIndex> best;
+  double best_distance2 = 0.0;
+  for (const CellIndex& cell : GoalSnapCandidates(costmap, goal, snap_radius_m)) {
+    if (!tree.Reachable(cell)) continue;
+    const double distance2 = static_cast<double>((cell.col - goal.col) * (cell.col - goal.col) +
+                                                 (cell.row - goal.row) * (cell.row - goal.row));
+    if (!best || distance2 < best_distance2 ||
+        (distance2 == best_distance2 && tree.CostTo(cell) < tree.CostTo(*best))) {
+      best = cell;
+      best_distance2 = distance2;
+    }
+  }
+  return best;
+}
+
 }  // namespace aslam

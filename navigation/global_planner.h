@@ -95,6 +95,16 @@ class ShortestPathTree {
   std::vector<std::vector<int32_t>> buckets_;  // the bucket queue
 };
 
+// Traversable cells within `radius_m` of `goal` that see it: no lethal cell on the Bresenham
+// line between them, the goal's own cell aside. A goal the robot cannot stand on (a frontier
+// target that the inflation or a newly seen obstacle has swallowed) is approached at one of these.
+std::vector<CellIndex> GoalSnapCandidates(const Costmap& costmap, CellIndex goal, double radius_m);
+
+// Where a path in `tree` towards `goal` ends: `goal` itself when the tree reaches it, else the
+// reachable snap candidate nearest to it (ties: the cheaper); nullopt when there is none.
+std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, const Costmap& costmap,
+                                           CellIndex goal, double snap_radius_m);
+
 class GlobalPlanner {
  public:
   // Throws std::invalid_argument for invalid options.

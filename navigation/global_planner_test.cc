@@ -454,6 +454,35 @@ TEST(GlobalPlannerTest, PlanGoesAroundTheWallAndRefusesGoalsInWalls) {
   EXPECT_FALSE(planner.Plan(closed_costmap, start, {5.0, 1.0}).has_value());
 }
 
+// A goal the robot cannot stand on is approached from a reachable cell that sees it: never from
+// across a wall, however near.
+TEST(GlobalPlannerTest, AGoalIsSnappedOnlyToReachableCellsThatSeeIt) {
+  OccupancyGrid grid = RoomWithWall();
+  const Costmap open(grid, CostmapOptions{});
+  const CellIndex goal = open.WorldToCell({3.125, 1.0});  // 0.1 m east of the wall
+  ASSERT_FALSE(open.Traversable(goal));
+  ASSERT_LT(open.cost(goal), Costmap::kLethal);
+  const GlobalPlanner planner;
+  const CellIndex west = open.WorldToCell({1.0, 1.0});
+  const std::optional<CellIndex> snapped =
+      ReachableGoalCell(planner.Search(open, west), open, goal, 0.5);
+  ASSERT_TRUE(snapped.has_value());
+  EXPECT_GT(open.CellCenter(*snapped).x_m, 3.05);  // east of the wall: through the door
+  EXPECT_LE(std::hypot(snapped->col - goal.col, snapped->row - goal.row) * kRes, 0.25);
+  for (const CellIndex& cell : GoalSnapCandidates(open, goal, 0.5)) {
+    EXPECT_TRUE(open.Traversable(cell));
+    EXPECT_GT(open.CellCenter(cell).x_m, 3.05);
+  }
+
+  // A post 0.25 m east of the wall leaves the goal in a slot the robot does not fit; the free
+  // cells 0.4 m west are across the wall, so nothing qualifies.
+  for (int row = 10; row <= 30; ++row) grid.at({66, row}) = OccupancyGrid::kOccupied;
+  const Costmap slot(grid, CostmapOptions{});
+  ASSERT_TRUE(slot.Traversable(slot.WorldToCell({2.725, 1.0})));
+  EXPECT_TRUE(GoalSnapCandidates(slot, goal, 0.5).empty());
+  EXPECT_FALSE(ReachableGoalCell(planner.Search(slot, west), slot, goal, 0.5).has_value());
+}
+
 TEST(GlobalPlannerTest, StartAgainstAWallEscapes) {
   const OccupancyGrid grid = RoomWithWall();
   const Costmap costmap(grid, CostmapOptions{});

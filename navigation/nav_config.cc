@@ -53,8 +53,6 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   c.ReadInRange("progress_margin_m", &o->progress_margin_m, 0.0, 100.0);
   c.ReadInRange("dwa_failures_for_recovery", &o->dwa_failures_for_recovery, 1, 10000);
   c.ReadInRange("max_recoveries", &o->max_recoveries, 0, 1000);
-  if (o->goal_snap_m > o->goal_tolerance_m)
-    c.Fail("goal_snap_m", "must not exceed goal_tolerance_m");
   if (o->align_done_rad > o->align_start_rad)
     c.Fail("align_done_rad", "must not exceed align_start_rad");
 

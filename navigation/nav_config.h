@@ -28,9 +28,10 @@ struct RecoveryOptions {
 
 struct NavigatorOptions {
   double goal_tolerance_m = 0.3;
-  // A goal in the inflated zone (not in an obstacle) is planned to the
-  // nearest traversable cell within this distance.
-  double goal_snap_m = 0.15;
+  // A goal the robot cannot stand on or get to (not in an obstacle) is approached at the
+  // nearest reachable cell within this distance that sees it; reached is then within
+  // goal_tolerance_m of either.
+  double goal_snap_m = 0.5;
   double replan_period_s = 1.0;
   double path_lookahead_m = 2.5;  // how much of the global path the DWA follows
   // Scan end points this close to the robot are marked as obstacles in the

@@ -119,8 +119,8 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
               HasSubstr("nav.recovery.back_off_speed_mps"));
   EXPECT_THAT(ErrorOf("nav:\n  costmap: {unknown_cost: 300}\n"),
               AllOf(HasSubstr("nav.costmap.unknown_cost"), HasSubstr("'300'")));
-  EXPECT_THAT(ErrorOf("nav:\n  goal_snap_m: 0.5\n"),
-              AllOf(HasSubstr("nav.goal_snap_m"), HasSubstr("goal_tolerance_m")));
+  EXPECT_THAT(ErrorOf("nav:\n  goal_snap_m: -0.1\n"),
+              AllOf(HasSubstr("nav.goal_snap_m"), HasSubstr("'-0.1'")));
   EXPECT_THAT(ErrorOf("nav:\n  align_start_rad: 0.2\n"),
               AllOf(HasSubstr("nav.align_done_rad"), HasSubstr("align_start_rad")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {min_linear_mps: 0.6}\n"),

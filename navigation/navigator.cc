@@ -141,6 +141,7 @@ void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
   }
   status_.goal_id = goal_id;
   status_.goal_m = goal_m;
+  plan_target_m_ = goal_m;
   status_.state = NavState::kActive;
   status_.recovery = RecoveryPhase::kNone;
   status_.distance_remaining_m = -1.0;
@@ -214,39 +215,44 @@ bool Navigator::Replan(int64_t utime) {
          Format("goal (%.2f, %.2f) is outside the map", goal.x_m, goal.y_m));
     return false;
   }
-  Point2d target = goal;
-  if (!costmap_.Traversable(goal_cell)) {
-    if (costmap_.cost(goal_cell) >= Costmap::kLethal) {
-      Stop(NavState::kUnreachable,
-           Format("goal (%.2f, %.2f) is in an obstacle", goal.x_m, goal.y_m));
-      return false;
-    }
-    // In the inflated zone: plan to the nearest cell the robot's centre may occupy.
-    const int reach =
-        static_cast<int>(std::ceil(options_.navigator.goal_snap_m / costmap_.resolution_m()));
-    double best_m = kInf;
-    for (int dr = -reach; dr <= reach; ++dr) {
-      for (int dc = -reach; dc <= reach; ++dc) {
-        const CellIndex cell{goal_cell.col + dc, goal_cell.row + dr};
-        if (!costmap_.Traversable(cell)) continue;
-        const double d = Distance(costmap_.CellCenter(cell), goal);
-        if (d <= options_.navigator.goal_snap_m && d < best_m) {
-          best_m = d;
-          target = costmap_.CellCenter(cell);
-        }
-      }
-    }
-    if (best_m == kInf) {
-      Stop(NavState::kUnreachable,
-           Format("goal (%.2f, %.2f) is too close to an obstacle for the robot", goal.x_m,
-                  goal.y_m));
-      return false;
-    }
+  if (costmap_.cost(goal_cell) >= Costmap::kLethal) {
+    Stop(NavState::kUnreachable, Format("goal (%.2f, %.2f) is in an obstacle", goal.x_m, goal.y_m));
+    return false;
   }
+  if (costmap_.Traversable(costmap_.WorldToCell(plan_target_m_)) &&
+      PlanTo(costmap_.WorldToCell(plan_target_m_), utime)) {
+    return true;
+  }
+  // The goal (or the cell kept for it) cannot be stood on or got to: approach it at the
+  // nearest reachable cell that sees it, and keep that cell while it can be planned to.
+  const std::vector<CellIndex> candidates =
+      GoalSnapCandidates(costmap_, goal_cell, options_.navigator.goal_snap_m);
+  if (candidates.empty() && !costmap_.Traversable(goal_cell)) {
+    Stop(NavState::kUnreachable,
+         Format("goal (%.2f, %.2f) is too close to an obstacle for the robot", goal.x_m, goal.y_m));
+    return false;
+  }
+  planner_.Search(costmap_, costmap_.WorldToCell(robot), candidates, &snap_tree_);
+  const std::optional<CellIndex> reachable =
+      ReachableGoalCell(snap_tree_, costmap_, goal_cell, options_.navigator.goal_snap_m);
+  std::optional<GlobalPath> path;
+  if (reachable) path = snap_tree_.PathTo(*reachable);
+  if (!path || path->points_m.empty()) {
+    Stop(NavState::kUnreachable,
+         Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,
+                robot.y_m, goal.x_m, goal.y_m));
+    return false;
+  }
+  plan_target_m_ = costmap_.CellCenter(*reachable);
+  SetPath(std::move(path->points_m));
+  return true;
+}
+
+bool Navigator::PlanTo(CellIndex target_cell, int64_t utime) {
+  const Point2d robot = Position(pose_->pose);
   // The goal-distance field is renewed for a new target or grid, when a plan settles three
   // times the cells the first on it did (walls mapped since, or the robot off its extent, have
   // made it weak), and now and then for walls gone since (a plan may then cost a little more).
-  const CellIndex target_cell = costmap_.WorldToCell(target);
   const bool field_weak = plan_tree_.settled_count() > kFieldWeakSettledCells &&
                           plan_tree_.settled_count() / 3 > field_first_plan_settled_;
   if (!goal_distances_.SameGrid(costmap_) || goal_distances_.start() != target_cell || field_weak ||
@@ -255,16 +261,16 @@ bool Navigator::Replan(int64_t utime) {
     goal_distances_utime_ = utime;
     field_first_plan_settled_ = std::numeric_limits<std::size_t>::max();
   }
-  std::optional<GlobalPath> path =
-      planner_.Plan(costmap_, robot, target, &plan_tree_, &goal_distances_);
+  std::optional<GlobalPath> path = planner_.Plan(costmap_, robot, costmap_.CellCenter(target_cell),
+                                                 &plan_tree_, &goal_distances_);
   field_first_plan_settled_ = std::min(field_first_plan_settled_, plan_tree_.settled_count());
-  if (!path || path->points_m.empty()) {
-    Stop(NavState::kUnreachable,
-         Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,
-                robot.y_m, goal.x_m, goal.y_m));
-    return false;
-  }
-  path_m_ = std::move(path->points_m);
+  if (!path || path->points_m.empty()) return false;
+  SetPath(std::move(path->points_m));
+  return true;
+}
+
+void Navigator::SetPath(std::vector<Point2d> points_m) {
+  path_m_ = std::move(points_m);
   path_suffix_m_.assign(path_m_.size(), 0.0);
   for (std::size_t i = path_m_.size() - 1; i-- > 0;) {
     path_suffix_m_[i] = path_suffix_m_[i + 1] + Distance(path_m_[i], path_m_[i + 1]);
@@ -274,7 +280,6 @@ bool Navigator::Replan(int64_t utime) {
   has_path_ = true;
   ++path_revision_;
   last_remaining_m_ = std::numeric_limits<double>::quiet_NaN();  // the new path starts the count
-  return true;
 }
 
 void Navigator::AdvancePathIndex() {
@@ -475,7 +480,8 @@ NavOutput Navigator::Step(int64_t utime) {
       status_.recovery == RecoveryPhase::kNone ? "" : "recovering: " + recovery_reason_;
 
   const Point2d robot = Position(pose_->pose);
-  if (Distance(robot, status_.goal_m) <= n.goal_tolerance_m) {
+  if (Distance(robot, status_.goal_m) <= n.goal_tolerance_m ||
+      Distance(robot, plan_target_m_) <= n.goal_tolerance_m) {
     const double remaining_m = has_path_ ? DistanceRemainingM() : Distance(robot, status_.goal_m);
     Stop(NavState::kReached, "");
     status_.distance_remaining_m = remaining_m;

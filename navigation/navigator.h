@@ -110,7 +110,9 @@ class Navigator {
 
  private:
   void Stop(NavState state, const std::string& detail);
-  bool Replan(int64_t utime);  // false: goal unreachable (state set)
+  bool Replan(int64_t utime);                         // false: goal unreachable (state set)
+  bool PlanTo(CellIndex target_cell, int64_t utime);  // A* to the cell; false: no path
+  void SetPath(std::vector<Point2d> points_m);
   bool PathBlocked() const;
   void AdvancePathIndex();
   double DistanceRemainingM() const;
@@ -150,7 +152,8 @@ class Navigator {
   int64_t scan_utime_ = -1;
 
   NavStatus status_;
-  Point2d plan_target_m_;  // the goal, or the traversable cell it was snapped to
+  Point2d plan_target_m_;       // the goal, or the reachable cell that sees it (goal_snap_m)
+  ShortestPathTree snap_tree_;  // the search for that cell
   bool has_path_ = false;
   std::vector<Point2d> path_m_;
   std::vector<double> path_suffix_m_;  // length from point i to the end

@@ -420,6 +420,46 @@ TEST(Navigator, ScanPointsArePlacedInTheMapWithTheLatestPose) {
   EXPECT_NEAR(navigator.scan_points_m()[1].y_m, 0.0, 1e-9);
 }
 
+// A fine sweep from `pose` whose only returns are `points` (obstacles the map does not have).
+LidarScan SweepSeeing(const std::vector<Point2d>& points, const Pose2d& pose, int64_t utime) {
+  LidarScan scan;
+  scan.utime = utime;
+  scan.range_min_m = 0.01;
+  scan.range_max_m = 100.0;
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = 2 * M_PI / 3600;
+  scan.range_m.assign(3600, 0.0f);
+  for (const Point2d& p : points) {
+    const double dx = p.x_m - pose.x_m, dy = p.y_m - pose.y_m;
+    const double bearing = WrapAngle(std::atan2(dy, dx) - pose.yaw_rad);
+    const int beam =
+        static_cast<int>(std::lround((bearing + M_PI) / scan.angle_increment_rad)) % 3600;
+    scan.range_m[beam] = static_cast<float>(std::hypot(dx, dy));
+  }
+  return scan;
+}
+
+// Drives with a scan of `obstacle` every cycle, until the goal settles; the closest the robot's
+// centre came to the obstacle.
+double DriveSeeing(Navigator& navigator, Drive& drive, const std::vector<Point2d>& obstacle,
+                   double seconds) {
+  double min_distance_m = 1e9;
+  const int64_t end = drive.utime + static_cast<int64_t>(seconds * 1e6);
+  while (drive.utime < end) {
+    drive.utime += kCycleUs;
+    navigator.SetPose(PoseAt(drive.utime, drive.pose));
+    navigator.SetScan(SweepSeeing(obstacle, drive.pose, drive.utime));
+    const NavOutput out = navigator.Step(drive.utime);
+    if (out.status.state != NavState::kActive) break;
+    drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
+    for (const Point2d& p : obstacle) {
+      min_distance_m =
+          std::min(min_distance_m, std::hypot(p.x_m - drive.pose.x_m, p.y_m - drive.pose.y_m));
+    }
+  }
+  return min_distance_m;
+}
+
 TEST(Navigator, AnUnmappedObstacleInTheScanIsAvoided) {
   // A scan-only obstacle (a box the map does not have) right on the straight path.
   Navigator navigator{NavOptions{}};
@@ -428,37 +468,29 @@ TEST(Navigator, AnUnmappedObstacleInTheScanIsAvoided) {
   navigator.SetGoal(1, {8.0, 5.0}, 0);
   std::vector<Point2d> box;
   for (double y = 4.6; y <= 5.4; y += 0.05) box.push_back({5.0, y});
-  double min_box_distance_m = 1e9;
-  const int64_t end = 60'000'000;
-  while (drive.utime < end) {
-    drive.utime += kCycleUs;
-    navigator.SetPose(PoseAt(drive.utime, drive.pose));
-    // A fine sweep whose only returns are the box points.
-    LidarScan scan;
-    scan.utime = drive.utime;
-    scan.range_min_m = 0.01;
-    scan.range_max_m = 100.0;
-    scan.angle_min_rad = -M_PI;
-    scan.angle_increment_rad = 2 * M_PI / 3600;
-    scan.range_m.assign(3600, 0.0f);
-    for (const Point2d& p : box) {
-      const double dx = p.x_m - drive.pose.x_m, dy = p.y_m - drive.pose.y_m;
-      const double bearing = WrapAngle(std::atan2(dy, dx) - drive.pose.yaw_rad);
-      const int beam =
-          static_cast<int>(std::lround((bearing + M_PI) / scan.angle_increment_rad)) % 3600;
-      scan.range_m[beam] = static_cast<float>(std::hypot(dx, dy));
-    }
-    navigator.SetScan(scan);
-    const NavOutput out = navigator.Step(drive.utime);
-    if (out.status.state != NavState::kActive) break;
-    drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
-    for (const Point2d& p : box) {
-      min_box_distance_m =
-          std::min(min_box_distance_m, std::hypot(p.x_m - drive.pose.x_m, p.y_m - drive.pose.y_m));
-    }
-  }
+  const double min_box_distance_m = DriveSeeing(navigator, drive, box, 60.0);
   EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
   EXPECT_GT(min_box_distance_m, 0.2);
+}
+
+TEST(Navigator, AGoalANewlySeenObstacleSwallowsIsReachedWhereTheRobotSeesIt) {
+  // A frontier target the map shows free, 0.06 m in front of a crate that only the scan shows:
+  // the robot cannot stand there, nor within 0.15 m; it stops at a cell that sees the goal.
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  Drive drive{{2.0, 5.0, 0.0}};
+  const Point2d goal{7.975, 5.025};
+  navigator.SetGoal(1, goal, 0);
+  std::vector<Point2d> crate;
+  for (double y = 4.5; y <= 5.5; y += 0.025) crate.push_back({8.035, y});
+  const double min_crate_distance_m = DriveSeeing(navigator, drive, crate, 60.0);
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+  EXPECT_GT(min_crate_distance_m, 0.2);
+  const double from_goal_m = std::hypot(drive.pose.x_m - goal.x_m, drive.pose.y_m - goal.y_m);
+  EXPECT_GT(from_goal_m, 0.15);  // not at the goal: it cannot stand there
+  EXPECT_LT(from_goal_m,
+            NavOptions{}.navigator.goal_snap_m + NavOptions{}.navigator.goal_tolerance_m);
+  EXPECT_LT(drive.pose.x_m, goal.x_m);  // on the goal's side of the crate
 }
 
 }  // namespace

@@ -24,39 +24,6 @@ double CellDistance(CellIndex a, CellIndex b) {
   return std::hypot(static_cast<double>(a.col - b.col), static_cast<double>(a.row - b.row));
 }
 
-// Traversable cells within `radius_cells` of `cell` (the snap candidates of an unenterable target).
-std::vector<CellIndex> SnapCandidates(const Costmap& costmap, CellIndex cell, double radius_cells) {
-  std::vector<CellIndex> candidates;
-  const int reach = static_cast<int>(std::floor(radius_cells));
-  for (int dr = -reach; dr <= reach; ++dr) {
-    for (int dc = -reach; dc <= reach; ++dc) {
-      const CellIndex c{cell.col + dc, cell.row + dr};
-      if (dc * dc + dr * dr > radius_cells * radius_cells || !costmap.Contains(c)) continue;
-      if (costmap.Traversable(c)) candidates.push_back(c);
-    }
-  }
-  return candidates;
-}
-
-// The cell the path goes to: the target itself when reachable, else the
-// reachable snap candidate nearest to it (ties: the cheaper one).
-std::optional<CellIndex> GoalCell(const ShortestPathTree& tree, const Costmap& costmap,
-                                  CellIndex target, double snap_radius_cells) {
-  if (tree.Reachable(target)) return target;
-  std::optional<CellIndex> best;
-  double best_distance = 0.0;
-  for (const CellIndex& c : SnapCandidates(costmap, target, snap_radius_cells)) {
-    if (!tree.Reachable(c)) continue;
-    const double distance = CellDistance(c, target);
-    if (!best || distance < best_distance ||
-        (distance == best_distance && tree.CostTo(c) < tree.CostTo(*best))) {
-      best = c;
-      best_distance = distance;
-    }
-  }
-  return best;
-}
-
 bool Within(Point2d a, Point2d b, double radius_m) {
   return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m) <= radius_m;
 }
@@ -159,7 +126,6 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
   costmap_.Update(map, options_.costmap);  // incremental between maps: same costs as a rebuild
   const Costmap& costmap = costmap_;
   const CellIndex robot_cell = map.WorldToCell({robot.x_m, robot.y_m});
-  const double snap_radius_cells = options_.goal_snap_m / map.resolution_m();
 
   // One search from the robot serves every frontier: wait for every target
   // (or, for one the planner cannot enter, for its snap candidates).
@@ -170,7 +136,7 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     if (costmap.Contains(target_cells[i]) && costmap.Traversable(target_cells[i])) {
       wait_for.push_back(target_cells[i]);
     } else {
-      const auto candidates = SnapCandidates(costmap, target_cells[i], snap_radius_cells);
+      const auto candidates = GoalSnapCandidates(costmap, target_cells[i], options_.goal_snap_m);
       wait_for.insert(wait_for.end(), candidates.begin(), candidates.end());
     }
   }
@@ -204,7 +170,8 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     s.distance_m = CellDistance(robot_cell, target_cells[i]) * map.resolution_m();
 
     std::optional<GlobalPath> path;
-    if (const auto goal_cell = GoalCell(tree_, costmap, target_cells[i], snap_radius_cells)) {
+    if (const auto goal_cell =
+            ReachableGoalCell(tree_, costmap, target_cells[i], options_.goal_snap_m)) {
       path = tree_.PathTo(*goal_cell);
     }
     if (path) s.path_length_m = path->length_m;

@@ -60,7 +60,7 @@ struct GoalSelectorOptions {
   double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
   // A target the planner cannot enter (e.g. in the inflated zone) is planned
   // to the reachable cell nearest to it within this distance, as the navigator does.
-  double goal_snap_m = 0.15;
+  double goal_snap_m = 0.5;
   CostmapOptions costmap;  // the planning costmap (same defaults as the navigator's)
   GlobalPlannerOptions global_planner;
   HallucinationOptions hallucination;

@@ -122,6 +122,7 @@ TEST(GoalSelectorFd, RespectsTheBlacklistRadius) {
 TEST(GoalSelector, EligibilityReasons) {
   GoalSelectorOptions options = Options(UtilityMethod::kFd);
   options.max_path_length_m = 4.0;  // A (~5 m by path) is too far, B (2.5 m) is not
+  options.goal_snap_m = 0.15;
   const GoalDecision d =
       Decide(options, WalledRoom(), kRoomRobot,
              {MakeFrontier(1, kA), MakeFrontier(2, kB), MakeFrontier(3, kTooClose),
@@ -132,7 +133,7 @@ TEST(GoalSelector, EligibilityReasons) {
   EXPECT_NEAR(d.scores[2].distance_m, std::sqrt(2.0) * kRes, 1e-12);
   EXPECT_EQ(d.scores[3].eligibility, Eligibility::kUnreachable);
   EXPECT_EQ(d.scores[3].path_length_m, -1.0);
-  // Inscribed target, nearest free cell 0.2 m away: beyond the default snap of 0.15 m.
+  // Inscribed target, nearest free cell 0.2 m away: beyond a snap of 0.15 m.
   EXPECT_EQ(d.scores[4].eligibility, Eligibility::kUnreachable);
   EXPECT_EQ(d.num_eligible, 1);
   EXPECT_EQ(d.chosen().frontier_id, 2);
