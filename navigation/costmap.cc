@@ -25,6 +25,10 @@ template <typename T>
   throw std::invalid_argument(message.str());
 }
 
+// Distances are centre to centre, clearances (what the DWA checks) to the obstacle cell's edge.
+double InscribedCentreDistanceM(const CostmapOptions& options, double resolution_m) {
+  return options.robot_radius_m + options.clearance_margin_m + 0.5 * resolution_m;
+}
 }  // namespace
 
 void CostmapOptions::Validate() const {
@@ -57,7 +61,7 @@ class Costmap::CostFunction {
   CostFunction(const CostmapOptions& options, double resolution_m)
       : options_(options),
         resolution_m_(resolution_m),
-        inscribed_m_(options.robot_radius_m + options.clearance_margin_m),
+        inscribed_m_(InscribedCentreDistanceM(options, resolution_m)),
         radius_m_(static_cast<float>(inscribed_m_)),
         outer_m_(static_cast<float>(inscribed_m_ + options.inflation_margin_m)) {
     const double outer_cells = static_cast<double>(outer_m_) / resolution_m_ + 2.0;
@@ -169,7 +173,7 @@ void Costmap::Rebuild(const OccupancyGrid& map, const CostmapOptions& options) {
 int Costmap::BandCells() const {
   // A recomputed cell's cost depends on obstacles at d_cells * resolution <=
   // outer (as floats), so d_cells < ceil(outer / resolution) + 1.
-  const double outer_m = static_cast<float>(options_.robot_radius_m + options_.clearance_margin_m +
+  const double outer_m = static_cast<float>(InscribedCentreDistanceM(options_, resolution_m_) +
                                             options_.inflation_margin_m);
   return static_cast<int>(std::ceil(outer_m / resolution_m_)) + 1;
 }

@@ -2,19 +2,21 @@
 
 // The global costmap built from a SLAM map (the ROS costmap_2d layering,
 // simplified): occupied cells are lethal, cells within the robot radius plus
-// a clearance margin of one are inscribed (impassable for the robot's
-// centre: the margin is the DWA's safety margin, so the planner never routes
-// through a gap the local planner refuses to drive through), and a decaying
+// a clearance margin of one's edge are inscribed (impassable for the robot's
+// centre: the margin is the DWA's safety margin and the DWA measures to an
+// obstacle cell's edge, so the planner never routes through a gap the local
+// planner refuses to drive through), and a decaying
 // cost spreads over a further margin; unknown cells are passable at an extra
 // cost, because frontier goals lie at the edge of the unknown. Distances come
 // from OpenCV's distance transform (exact Euclidean, cell centre to the
 // nearest obstacle cell's centre); unknown cells are not obstacles.
 //
-// Cost of a cell at obstacle distance d (metres):
+// Cost of a cell at obstacle distance d (metres, centre to centre) and clearance
+// c = d - resolution / 2 (to the obstacle cell's edge, as the DWA measures it):
 //   d == 0                      kLethal
 //   r = robot_radius + clearance_margin
-//   0 < d <= r                  kInscribed
-//   d <= r + inflation_margin   round((kInscribed - 1) * exp(-scale * (d - r)))
+//   0 < d, c <= r               kInscribed
+//   c <= r + inflation_margin   round((kInscribed - 1) * exp(-scale * (c - r)))
 //   beyond                      kFree
 // An unknown cell keeps this cost (cost() never includes the unknown penalty;
 // the global planner adds options().unknown_cost itself), or reads kNoGo when

@@ -71,16 +71,18 @@ TEST(CostmapTest, DistanceMatchesBruteForceNearestObstacle) {
   }
 }
 
-// The documented cost of a cell at obstacle distance d, or -1 when d is too
-// close to a band edge or a rounding tie for float rounding to be decisive.
+// The documented cost of a cell at obstacle distance d (centre to centre; its clearance is
+// half a cell less), or -1 when the clearance is too close to a band edge or a rounding tie
+// for float rounding to be decisive.
 int ExpectedCost(double d, const CostmapOptions& o) {
   const double radius = o.robot_radius_m + o.clearance_margin_m;
   const double outer = radius + o.inflation_margin_m;
   if (d == 0.0) return Costmap::kLethal;
-  if (std::abs(d - radius) < 1e-6 || std::abs(d - outer) < 1e-6) return -1;
-  if (d < radius) return Costmap::kInscribed;
-  if (d > outer) return Costmap::kFree;
-  const double value = 252.0 * std::exp(-o.cost_scaling_per_m * (d - radius));
+  const double clearance = d - 0.5 * kRes;
+  if (std::abs(clearance - radius) < 1e-6 || std::abs(clearance - outer) < 1e-6) return -1;
+  if (clearance < radius) return Costmap::kInscribed;
+  if (clearance > outer) return Costmap::kFree;
+  const double value = 252.0 * std::exp(-o.cost_scaling_per_m * (clearance - radius));
   if (std::abs(value - std::floor(value) - 0.5) < 1e-3) return -1;
   return static_cast<int>(std::lround(value));
 }
@@ -125,12 +127,13 @@ TEST(CostmapTest, LethalInscribedAndDecayAtKnownDistances) {
   const Costmap costmap(grid, options);
   auto cost_at = [&](int col) { return static_cast<int>(costmap.cost({col, 2})); };
   EXPECT_EQ(cost_at(0), Costmap::kLethal);
+  // Centre distances; the clearance (to the obstacle cell's edge) is 0.025 m less.
   EXPECT_EQ(cost_at(2), Costmap::kInscribed);  // 0.10 m
   EXPECT_EQ(cost_at(4), Costmap::kInscribed);  // 0.20 m: inside the DWA's safety margin
-  EXPECT_EQ(cost_at(5), Costmap::kInscribed);  // 0.25 m: radius + margin itself is inscribed
-  EXPECT_EQ(cost_at(6), 196);                  // 0.30 m: 252 e^-0.25 = 196.3
-  EXPECT_EQ(cost_at(11), 56);                  // 0.55 m: 252 e^-1.5 = 56.2
-  EXPECT_EQ(cost_at(13), 34);                  // 0.65 m (outer edge): 252 e^-2 = 34.1
+  EXPECT_EQ(cost_at(5), Costmap::kInscribed);  // 0.25 m: clearance 0.225 m, inside it too
+  EXPECT_EQ(cost_at(6), 222);                  // 0.30 m: 252 e^-0.125 = 222.4
+  EXPECT_EQ(cost_at(11), 64);                  // 0.55 m: 252 e^-1.375 = 63.7
+  EXPECT_EQ(cost_at(13), 39);                  // 0.65 m (outer edge 0.675): 252 e^-1.875 = 38.7
   EXPECT_EQ(cost_at(14), Costmap::kFree);      // 0.70 m
   EXPECT_EQ(cost_at(40), Costmap::kFree);
   EXPECT_NEAR(costmap.ObstacleDistanceM({3, 2}), 0.15, 1e-6);  // stored as float

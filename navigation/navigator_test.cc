@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 namespace aslam {
@@ -78,6 +79,35 @@ struct Drive {
     }
   }
 };
+
+// The planner's promise to the DWA: every cell the robot's centre may occupy on a plan is clear
+// of every obstacle by the robot radius plus the safety margin, as the DWA measures clearance.
+TEST(Navigator, EveryCellThePlannerMayEnterIsClearForTheDwa) {
+  const NavOptions options = LoadNavOptionsFromFile("");
+  const double needed_m = options.dwa.robot_radius_m + options.dwa.safety_margin_m;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  int checked = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    OccupancyGrid grid(60, 60, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+    for (int8_t& value : grid.mutable_cells()) {
+      if (u01(rng) < 0.01) value = OccupancyGrid::kOccupied;
+    }
+    const Costmap costmap(grid, options.costmap);
+    LocalObstaclesOptions window = options.local_obstacles;
+    window.window_m = 6.0;  // the whole grid, from its centre
+    const LocalObstacles obstacles(grid, {}, {1.5, 1.5, 0.0}, window);
+    for (int row = 0; row < 60; ++row) {
+      for (int col = 0; col < 60; ++col) {
+        if (!costmap.Traversable({col, row})) continue;
+        EXPECT_GE(obstacles.ClearanceM(costmap.CellCenter({col, row})), needed_m - 1e-6)
+            << "trial " << trial << " cell " << col << "," << row;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 5000);
+}
 
 TEST(Navigator, IdleWithoutGoalCommandsZero) {
   Navigator navigator{NavOptions{}};

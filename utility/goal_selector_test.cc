@@ -56,7 +56,7 @@ const Point2d kA = Center(25, 10);
 const Point2d kB = Center(10, 35);
 const Point2d kTooClose = Center(11, 11);   // 0.141 m from the robot
 const Point2d kInTheBox = Center(45, 10);   // enclosed
-const Point2d kAtTheWall = Center(21, 10);  // 0.1 m from the wall: inscribed, 0.2 m from free space
+const Point2d kAtTheWall = Center(21, 10);  // beside the wall: inscribed, 0.3 m from free space
 
 GoalSelectorOptions Options(UtilityMethod method) {
   GoalSelectorOptions o;
@@ -133,7 +133,7 @@ TEST(GoalSelector, EligibilityReasons) {
   EXPECT_NEAR(d.scores[2].distance_m, std::sqrt(2.0) * kRes, 1e-12);
   EXPECT_EQ(d.scores[3].eligibility, Eligibility::kUnreachable);
   EXPECT_EQ(d.scores[3].path_length_m, -1.0);
-  // Inscribed target, nearest free cell 0.2 m away: beyond a snap of 0.15 m.
+  // Inscribed target, nearest traversable cell 0.3 m away: beyond a snap of 0.15 m.
   EXPECT_EQ(d.scores[4].eligibility, Eligibility::kUnreachable);
   EXPECT_EQ(d.num_eligible, 1);
   EXPECT_EQ(d.chosen().frontier_id, 2);
@@ -142,8 +142,8 @@ TEST(GoalSelector, EligibilityReasons) {
     EXPECT_FALSE(d.scores[i].chosen) << i;
   }
 
-  // A snap of 0.25 m reaches the wall target's free neighbour (around the wall, like A).
-  options.goal_snap_m = 0.25;
+  // A snap of 0.35 m reaches the wall target's traversable neighbour (around the wall, like A).
+  options.goal_snap_m = 0.35;
   options.max_path_length_m = 0.0;  // no limit
   const GoalDecision snapped =
       Decide(options, WalledRoom(), kRoomRobot, {MakeFrontier(1, kA), MakeFrontier(5, kAtTheWall)});
