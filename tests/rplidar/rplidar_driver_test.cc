@@ -90,6 +90,8 @@ struct Rig {
     std::vector<LidarScan> scans;
     const int64_t deadline = HostClockUtime() + static_cast<int64_t>(limit_s * 1e6);
     while (scans.size() < count && HostClockUtime() < deadline) driver.Poll(20, &scans);
+    // One poll may complete several scans when this thread ran late (a loaded machine).
+    if (scans.size() > count) scans.resize(count);
     return scans;
   }
 
