@@ -407,12 +407,12 @@ std::vector<CellIndex> GoalSnapCandidates(const Costmap& costmap, CellIndex goal
   return candidates;
 }
 
-std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, const Costmap& costmap,
-                                           CellIndex goal, double snap_radius_m) {
+std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, CellIndex goal,
+                                           const std::vector<CellIndex>& snap_candidates) {
   if (tree.Reachable(goal)) return goal;
   std::optional<CellIndex> best;
   double best_distance2 = 0.0;
-  for (const CellIndex& cell : GoalSnapCandidates(costmap, goal, snap_radius_m)) {
+  for (const CellIndex& cell : snap_candidates) {
     if (!tree.Reachable(cell)) continue;
     const double distance2 = static_cast<double>((cell.col - goal.col) * (cell.col - goal.col) +
                                                  (cell.row - goal.row) * (cell.row - goal.row));

@@ -101,9 +101,10 @@ class ShortestPathTree {
 std::vector<CellIndex> GoalSnapCandidates(const Costmap& costmap, CellIndex goal, double radius_m);
 
 // Where a path in `tree` towards `goal` ends: `goal` itself when the tree reaches it, else the
-// reachable snap candidate nearest to it (ties: the cheaper); nullopt when there is none.
-std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, const Costmap& costmap,
-                                           CellIndex goal, double snap_radius_m);
+// reachable cell of `snap_candidates` (GoalSnapCandidates) nearest to it (ties: the cheaper);
+// nullopt when there is none.
+std::optional<CellIndex> ReachableGoalCell(const ShortestPathTree& tree, CellIndex goal,
+                                           const std::vector<CellIndex>& snap_candidates);
 
 class GlobalPlanner {
  public:

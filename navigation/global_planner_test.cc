@@ -465,7 +465,7 @@ TEST(GlobalPlannerTest, AGoalIsSnappedOnlyToReachableCellsThatSeeIt) {
   const GlobalPlanner planner;
   const CellIndex west = open.WorldToCell({1.0, 1.0});
   const std::optional<CellIndex> snapped =
-      ReachableGoalCell(planner.Search(open, west), open, goal, 0.5);
+      ReachableGoalCell(planner.Search(open, west), goal, GoalSnapCandidates(open, goal, 0.5));
   ASSERT_TRUE(snapped.has_value());
   EXPECT_GT(open.CellCenter(*snapped).x_m, 3.05);  // east of the wall: through the door
   EXPECT_LE(std::hypot(snapped->col - goal.col, snapped->row - goal.row) * kRes, 0.25);
@@ -480,7 +480,9 @@ TEST(GlobalPlannerTest, AGoalIsSnappedOnlyToReachableCellsThatSeeIt) {
   const Costmap slot(grid, CostmapOptions{});
   ASSERT_TRUE(slot.Traversable(slot.WorldToCell({2.725, 1.0})));
   EXPECT_TRUE(GoalSnapCandidates(slot, goal, 0.5).empty());
-  EXPECT_FALSE(ReachableGoalCell(planner.Search(slot, west), slot, goal, 0.5).has_value());
+  EXPECT_FALSE(
+      ReachableGoalCell(planner.Search(slot, west), goal, GoalSnapCandidates(slot, goal, 0.5))
+          .has_value());
 }
 
 TEST(GlobalPlannerTest, StartAgainstAWallEscapes) {

@@ -233,8 +233,7 @@ bool Navigator::Replan(int64_t utime) {
     return false;
   }
   planner_.Search(costmap_, costmap_.WorldToCell(robot), candidates, &snap_tree_);
-  const std::optional<CellIndex> reachable =
-      ReachableGoalCell(snap_tree_, costmap_, goal_cell, options_.navigator.goal_snap_m);
+  const std::optional<CellIndex> reachable = ReachableGoalCell(snap_tree_, goal_cell, candidates);
   std::optional<GlobalPath> path;
   if (reachable) path = snap_tree_.PathTo(*reachable);
   if (!path || path->points_m.empty()) {

@@ -130,14 +130,15 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
   // One search from the robot serves every frontier: wait for every target
   // (or, for one the planner cannot enter, for its snap candidates).
   std::vector<CellIndex> target_cells(frontiers.size());
+  std::vector<std::vector<CellIndex>> snap_candidates(frontiers.size());
   std::vector<CellIndex> wait_for;
   for (std::size_t i = 0; i < frontiers.size(); ++i) {
     target_cells[i] = map.WorldToCell(frontiers[i].target_m);
     if (costmap.Contains(target_cells[i]) && costmap.Traversable(target_cells[i])) {
       wait_for.push_back(target_cells[i]);
     } else {
-      const auto candidates = GoalSnapCandidates(costmap, target_cells[i], options_.goal_snap_m);
-      wait_for.insert(wait_for.end(), candidates.begin(), candidates.end());
+      snap_candidates[i] = GoalSnapCandidates(costmap, target_cells[i], options_.goal_snap_m);
+      wait_for.insert(wait_for.end(), snap_candidates[i].begin(), snap_candidates[i].end());
     }
   }
   if (!frontiers.empty()) planner_.Search(costmap, robot_cell, wait_for, &tree_);
@@ -170,8 +171,11 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     s.distance_m = CellDistance(robot_cell, target_cells[i]) * map.resolution_m();
 
     std::optional<GlobalPath> path;
-    if (const auto goal_cell =
-            ReachableGoalCell(tree_, costmap, target_cells[i], options_.goal_snap_m)) {
+    // A target the planner can enter but not reach needs its snap candidates only now.
+    if (!tree_.Reachable(target_cells[i]) && snap_candidates[i].empty()) {
+      snap_candidates[i] = GoalSnapCandidates(costmap, target_cells[i], options_.goal_snap_m);
+    }
+    if (const auto goal_cell = ReachableGoalCell(tree_, target_cells[i], snap_candidates[i])) {
       path = tree_.PathTo(*goal_cell);
     }
     if (path) s.path_length_m = path->length_m;
