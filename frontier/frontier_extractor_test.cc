@@ -298,7 +298,8 @@ TEST(FindFrontiers, RobotShutInAPocketStillReachesTheFrontiersOutside) {
   }
   for (int row = 20; row <= 36; ++row) {
     map.at({60, row}) = OccupancyGrid::kOccupied;
-    if (row < 26 || row > 30) map.at({40, row}) = OccupancyGrid::kOccupied;  // a 0.25 m gap
+    // A 0.45 m gap: the robot's body fits, its clearance margin does not.
+    if (row < 24 || row > 32) map.at({40, row}) = OccupancyGrid::kOccupied;
   }
   const Point2d in_pocket = map.CellCenter({50, 28});
   FrontierExtractionStats stats;

@@ -190,13 +190,20 @@ void GlobalPlanner::SearchImpl(const Costmap& costmap, CellIndex start,
       escape_m += c.robot_radius_m + c.clearance_margin_m;
     }
     const double radius_cells = escape_m / costmap.resolution_m();
+    // Where the robot's body fits, or no closer to an obstacle than it already is (the DWA's
+    // rule inside its margin): a hole in a wall narrower than the robot never opens.
+    const double half_cell_m = 0.5 * costmap.resolution_m();
+    const double min_clearance_m =
+        std::min(costmap.options().robot_radius_m, costmap.ObstacleDistanceM(start) - half_cell_m) -
+        1e-9;
     const int reach = static_cast<int>(std::floor(radius_cells));
     for (const CellIndex& from : escape_from) {
       for (int dr = -reach; dr <= reach; ++dr) {
         for (int dc = -reach; dc <= reach; ++dc) {
           const CellIndex cell{from.col + dc, from.row + dr};
           if (!costmap.Contains(cell) || dc * dc + dr * dr > radius_cells * radius_cells) continue;
-          if (costmap.cost(cell) == Costmap::kInscribed) {
+          if (costmap.cost(cell) == Costmap::kInscribed &&
+              costmap.ObstacleDistanceM(cell) - half_cell_m >= min_clearance_m) {
             cell_class[t.PaddedIndex(cell)] |= kEscapeBit;
           }
         }

@@ -38,6 +38,9 @@ struct GlobalPlannerOptions {
   // shut in a pocket of at most 1 m² of traversable cells (gaps the inscribed zone
   // closes) escapes from every cell of the pocket, this far plus the inscribed radius
   // (robot radius and clearance margin), so the way out spans a gap's inscribed cells.
+  // Escape cells are only those whose clearance (to an obstacle cell's edge) is at least the
+  // robot radius (the body fits, within its margin) or the start's own, if less (the DWA's
+  // rule inside its margin: no closer than now): a hole narrower than the robot never opens.
   double start_escape_m = 0.3;
 
   // Throws std::invalid_argument naming the field and value.

@@ -531,7 +531,7 @@ TEST(GlobalPlannerTest, StartAgainstAWallEscapes) {
 }
 
 // Issue 15's dead-end pinch: the robot stands in a traversable pocket (here a 0.95 m x 0.75 m
-// box with one 0.25 m gap) whose way out the inscribed zone closes. It must still plan out; a
+// box with one 0.45 m gap) whose way out the inscribed zone closes. It must still plan out; a
 // robot outside must still not plan in.
 TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
   OccupancyGrid grid(100, 60, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
@@ -541,7 +541,8 @@ TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
   }
   for (int row = 20; row <= 36; ++row) {
     grid.at({60, row}) = OccupancyGrid::kOccupied;
-    if (row < 26 || row > 30) grid.at({40, row}) = OccupancyGrid::kOccupied;  // gap rows 26-30
+    // Gap rows 24-32 (0.45 m): the robot's body fits, its clearance margin does not.
+    if (row < 24 || row > 32) grid.at({40, row}) = OccupancyGrid::kOccupied;
   }
   const Costmap costmap(grid, CostmapOptions{});
   const Point2d inside = costmap.CellCenter({50, 28});
@@ -569,6 +570,29 @@ TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
   // From the large free space, the pocket stays shut: no planning into a gap the robot does not
   // fit.
   EXPECT_FALSE(planner.Plan(costmap, outside, inside).has_value());
+}
+
+// The same box with a 0.25 m hole (a gap in a lidar-made wall): the robot's body does not fit,
+// so the escape must not plan it out through the hole, nor call what lies beyond reachable.
+TEST(GlobalPlannerTest, AHoleNarrowerThanTheRobotKeepsAPocketShut) {
+  OccupancyGrid grid(100, 60, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
+  for (int col = 40; col <= 60; ++col) {
+    grid.at({col, 20}) = OccupancyGrid::kOccupied;
+    grid.at({col, 36}) = OccupancyGrid::kOccupied;
+  }
+  for (int row = 20; row <= 36; ++row) {
+    grid.at({60, row}) = OccupancyGrid::kOccupied;
+    if (row < 26 || row > 30) grid.at({40, row}) = OccupancyGrid::kOccupied;  // hole rows 26-30
+  }
+  const Costmap costmap(grid, CostmapOptions{});
+  const Point2d inside = costmap.CellCenter({50, 28});
+  const Point2d outside = costmap.CellCenter({15, 28});
+  ASSERT_TRUE(costmap.Traversable(costmap.WorldToCell(inside)));
+  ASSERT_LT(costmap.ObstacleDistanceM({40, 28}) - 0.5 * kRes, CostmapOptions{}.robot_radius_m);
+  const GlobalPlanner planner;
+  EXPECT_FALSE(planner.Plan(costmap, inside, outside).has_value());
+  EXPECT_FALSE(planner.Search(costmap, costmap.WorldToCell(inside), {costmap.WorldToCell(outside)})
+                   .Reachable(costmap.WorldToCell(outside)));
 }
 
 TEST(GlobalPlannerTest, UnknownCellsCostExtraOrBlock) {
