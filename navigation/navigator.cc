@@ -58,19 +58,13 @@ void Navigator::UpdateScanMarks() {
   if (range_m > 0.0 && pose_) {
     const Point2d robot = Position(pose_->pose);
     const int threshold = options_.costmap.occupied_threshold;
-    // A return within this many cells of a mapped obstacle is that obstacle
-    // (range noise); marking it would only thicken walls and bend paths.
-    constexpr int kExplainedCells = 2;
+    // Every return the map does not already hold as an obstacle, as the DWA's LocalObstacles
+    // takes them: a wall's returns a cell off its mapped face narrow a gap for the DWA, so
+    // they must for the planner too, or it plans through gaps the DWA will not drive.
     for (const Point2d& p : scan_points_m_) {
       const CellIndex cell = map_.WorldToCell(p);
       if (!map_.Contains(cell) || Distance(p, robot) > range_m) continue;
-      bool explained = false;
-      for (int dr = -kExplainedCells; dr <= kExplainedCells && !explained; ++dr) {
-        for (int dc = -kExplainedCells; dc <= kExplainedCells && !explained; ++dc) {
-          explained = map_.ValueOr({cell.col + dc, cell.row + dr}, 0) >= threshold;
-        }
-      }
-      if (!explained) cells.push_back(map_.LinearIndex(cell));
+      if (map_.at(cell) < threshold) cells.push_back(map_.LinearIndex(cell));
     }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());

@@ -119,8 +119,8 @@ class Navigator {
   std::vector<Point2d> PathAhead() const;  // the DWA's view of the path
   double PathHeadingRad() const;           // direction of the path ahead from the robot
   void ClearPath();
-  // Marks the scan points within scan_mark_range_m that the map does not
-  // explain into the planning costmap (rebuilt only when the marks change).
+  // Marks the scan points within scan_mark_range_m that do not fall on a mapped
+  // obstacle cell into the planning costmap (rebuilt only when the marks change).
   void UpdateScanMarks();
   void StartRecovery(int64_t utime, const std::string& reason, const LocalObstacles& obstacles);
   VelocityCommand StepRecovery(int64_t utime, const LocalObstacles& obstacles);

@@ -503,6 +503,47 @@ TEST(Navigator, AnUnmappedObstacleInTheScanIsAvoided) {
   EXPECT_GT(min_box_distance_m, 0.2);
 }
 
+// A lidar-made map draws a doorway's jambs a cell thin: the scan returns from the jambs' faces
+// one cell into the mapped gap. The planner must see the gap as the DWA does (0.5 m, too narrow
+// for a 0.25 m inscribed radius) and take the other door, not drive to the gap and stall there.
+TEST(Navigator, ScanReturnsBesideAMappedWallNarrowAGapForThePlannerToo) {
+  OccupancyGrid grid(200, 200, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  for (int i = 0; i < 200; ++i) {
+    for (int t = 0; t < 3; ++t) {
+      grid.at({i, t}) = grid.at({i, 199 - t}) = grid.at({t, i}) = grid.at({199 - t, i}) = 100;
+    }
+  }
+  for (int row = 0; row < 200; ++row) {
+    const bool south_gap = row >= 44 && row <= 55;    // 0.6 m on the map: y 2.2 to 2.8
+    const bool north_gap = row >= 140 && row <= 159;  // 1 m: y 7 to 8
+    if (south_gap || north_gap) continue;
+    for (int col = 99; col < 102; ++col) grid.at({col, row}) = 100;
+  }
+  std::vector<Point2d> jambs;  // the jambs' faces: returns in gap rows 44 and 55
+  for (int col = 99; col < 102; ++col) {
+    jambs.push_back(grid.CellCenter({col, 44}));
+    jambs.push_back(grid.CellCenter({col, 55}));
+  }
+  Navigator navigator{LoadNavOptionsFromFile("")};
+  navigator.SetMap(grid);
+  Drive drive{{3.5, 2.5, 0.0}};
+  navigator.SetGoal(1, {7.5, 2.5}, 0);
+  double max_y_m = 0.0;
+  const int64_t end = drive.utime + 120'000'000;
+  while (drive.utime < end) {
+    drive.utime += kCycleUs;
+    navigator.SetPose(PoseAt(drive.utime, drive.pose));
+    navigator.SetScan(SweepSeeing(jambs, drive.pose, drive.utime));
+    const NavOutput out = navigator.Step(drive.utime);
+    if (out.status.state != NavState::kActive) break;
+    drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
+    max_y_m = std::max(max_y_m, drive.pose.y_m);
+  }
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+  EXPECT_EQ(navigator.status().recoveries_used, 0);
+  EXPECT_GT(max_y_m, 7.0);  // through the north door
+}
+
 TEST(Navigator, AGoalANewlySeenObstacleSwallowsIsReachedWhereTheRobotSeesIt) {
   // A frontier target the map shows free, 0.06 m in front of a crate that only the scan shows:
   // the robot cannot stand there, nor within 0.15 m; it stops at a cell that sees the goal.
