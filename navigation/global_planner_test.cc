@@ -533,7 +533,8 @@ TEST(GlobalPlannerTest, StartAgainstAWallEscapes) {
 // Issue 15's dead-end pinch: the robot stands in a traversable pocket (here a 0.95 m x 0.75 m
 // box with one 0.45 m gap) whose way out the inscribed zone closes. It must still plan out; a
 // robot outside must still not plan in.
-TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
+// A box of cols 40-60, rows 20-36 in open space, its west wall open at rows gap_first..gap_last.
+OccupancyGrid BoxWithAGap(int gap_first_row, int gap_last_row) {
   OccupancyGrid grid(100, 60, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
   for (int col = 40; col <= 60; ++col) {
     grid.at({col, 20}) = OccupancyGrid::kOccupied;
@@ -541,10 +542,14 @@ TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
   }
   for (int row = 20; row <= 36; ++row) {
     grid.at({60, row}) = OccupancyGrid::kOccupied;
-    // Gap rows 24-32 (0.45 m): the robot's body fits, its clearance margin does not.
-    if (row < 24 || row > 32) grid.at({40, row}) = OccupancyGrid::kOccupied;
+    if (row < gap_first_row || row > gap_last_row) grid.at({40, row}) = OccupancyGrid::kOccupied;
   }
-  const Costmap costmap(grid, CostmapOptions{});
+  return grid;
+}
+
+TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
+  // Gap rows 24-32 (0.45 m): the robot's body fits, its clearance margin does not.
+  const Costmap costmap(BoxWithAGap(24, 32), CostmapOptions{});
   const Point2d inside = costmap.CellCenter({50, 28});
   const Point2d outside = costmap.CellCenter({15, 28});
   ASSERT_TRUE(costmap.Traversable(costmap.WorldToCell(inside)));
@@ -575,16 +580,7 @@ TEST(GlobalPlannerTest, StartShutInAPocketEscapesThroughItsGap) {
 // The same box with a 0.25 m hole (a gap in a lidar-made wall): the robot's body does not fit,
 // so the escape must not plan it out through the hole, nor call what lies beyond reachable.
 TEST(GlobalPlannerTest, AHoleNarrowerThanTheRobotKeepsAPocketShut) {
-  OccupancyGrid grid(100, 60, kRes, {0.0, 0.0}, OccupancyGrid::kFree);
-  for (int col = 40; col <= 60; ++col) {
-    grid.at({col, 20}) = OccupancyGrid::kOccupied;
-    grid.at({col, 36}) = OccupancyGrid::kOccupied;
-  }
-  for (int row = 20; row <= 36; ++row) {
-    grid.at({60, row}) = OccupancyGrid::kOccupied;
-    if (row < 26 || row > 30) grid.at({40, row}) = OccupancyGrid::kOccupied;  // hole rows 26-30
-  }
-  const Costmap costmap(grid, CostmapOptions{});
+  const Costmap costmap(BoxWithAGap(26, 30), CostmapOptions{});  // hole rows 26-30
   const Point2d inside = costmap.CellCenter({50, 28});
   const Point2d outside = costmap.CellCenter({15, 28});
   ASSERT_TRUE(costmap.Traversable(costmap.WorldToCell(inside)));

@@ -470,9 +470,9 @@ LidarScan SweepSeeing(const std::vector<Point2d>& points, const Pose2d& pose, in
 }
 
 // Drives with a scan of `obstacle` every cycle, until the goal settles; the closest the robot's
-// centre came to the obstacle.
+// centre came to the obstacle. `max_y_m` (optional): the farthest north the robot got.
 double DriveSeeing(Navigator& navigator, Drive& drive, const std::vector<Point2d>& obstacle,
-                   double seconds) {
+                   double seconds, double* max_y_m = nullptr) {
   double min_distance_m = 1e9;
   const int64_t end = drive.utime + static_cast<int64_t>(seconds * 1e6);
   while (drive.utime < end) {
@@ -482,6 +482,7 @@ double DriveSeeing(Navigator& navigator, Drive& drive, const std::vector<Point2d
     const NavOutput out = navigator.Step(drive.utime);
     if (out.status.state != NavState::kActive) break;
     drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
+    if (max_y_m) *max_y_m = std::max(*max_y_m, drive.pose.y_m);
     for (const Point2d& p : obstacle) {
       min_distance_m =
           std::min(min_distance_m, std::hypot(p.x_m - drive.pose.x_m, p.y_m - drive.pose.y_m));
@@ -529,16 +530,7 @@ TEST(Navigator, ScanReturnsBesideAMappedWallNarrowAGapForThePlannerToo) {
   Drive drive{{3.5, 2.5, 0.0}};
   navigator.SetGoal(1, {7.5, 2.5}, 0);
   double max_y_m = 0.0;
-  const int64_t end = drive.utime + 120'000'000;
-  while (drive.utime < end) {
-    drive.utime += kCycleUs;
-    navigator.SetPose(PoseAt(drive.utime, drive.pose));
-    navigator.SetScan(SweepSeeing(jambs, drive.pose, drive.utime));
-    const NavOutput out = navigator.Step(drive.utime);
-    if (out.status.state != NavState::kActive) break;
-    drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
-    max_y_m = std::max(max_y_m, drive.pose.y_m);
-  }
+  DriveSeeing(navigator, drive, jambs, 120.0, &max_y_m);
   EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
   EXPECT_EQ(navigator.status().recoveries_used, 0);
   EXPECT_GT(max_y_m, 7.0);  // through the north door
