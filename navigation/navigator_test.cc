@@ -508,12 +508,7 @@ TEST(Navigator, AnUnmappedObstacleInTheScanIsAvoided) {
 // one cell into the mapped gap. The planner must see the gap as the DWA does (0.5 m, too narrow
 // for a 0.25 m inscribed radius) and take the other door, not drive to the gap and stall there.
 TEST(Navigator, ScanReturnsBesideAMappedWallNarrowAGapForThePlannerToo) {
-  OccupancyGrid grid(200, 200, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
-  for (int i = 0; i < 200; ++i) {
-    for (int t = 0; t < 3; ++t) {
-      grid.at({i, t}) = grid.at({i, 199 - t}) = grid.at({t, i}) = grid.at({199 - t, i}) = 100;
-    }
-  }
+  OccupancyGrid grid = Room();  // its divider drawn here, with a narrower south gap
   for (int row = 0; row < 200; ++row) {
     const bool south_gap = row >= 44 && row <= 55;    // 0.6 m on the map: y 2.2 to 2.8
     const bool north_gap = row >= 140 && row <= 159;  // 1 m: y 7 to 8
