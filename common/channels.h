@@ -21,6 +21,7 @@ inline constexpr const char* kExploreStatus = "EXPLORE_STATUS";
 inline constexpr const char* kExploreControl = "EXPLORE_CONTROL";
 inline constexpr const char* kNavStatus = "NAV_STATUS";
 inline constexpr const char* kNavPath = "NAV_PATH";
+inline constexpr const char* kNavObstacles = "NAV_OBSTACLES";
 inline constexpr const char* kProcmanOrders = "PROCMAN_ORDERS";
 inline constexpr const char* kProcmanStatus = "PROCMAN_STATUS";
 

@@ -447,4 +447,18 @@ double Costmap::ObstacleDistanceM(CellIndex cell) const {
   return Contains(cell) ? obstacle_distance_m_[LinearIndex(cell)] : 0.0;
 }
 
+std::optional<OccupancyGrid> WithPlanningObstacles(const OccupancyGrid& map,
+                                                   const PlanningObstacles& obstacles,
+                                                   int64_t utime) {
+  constexpr int64_t kMaxAgeUs = 10'000'000;
+  if (obstacles.points_m.empty() || utime - obstacles.utime > kMaxAgeUs) return std::nullopt;
+  OccupancyGrid marked = map;
+  for (const Point2d& point : obstacles.points_m) {
+    const CellIndex cell = marked.WorldToCell(point);
+    if (marked.Contains(cell))
+      marked.mutable_cells()[marked.LinearIndex(cell)] = OccupancyGrid::kOccupied;
+  }
+  return marked;
+}
+
 }  // namespace aslam

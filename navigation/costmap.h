@@ -33,6 +33,7 @@
 // the band (see there).
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -147,5 +148,21 @@ class Costmap {
   std::vector<uint8_t> unknown_;
   std::vector<float> obstacle_distance_m_;
 };
+
+// The obstacles the navigator plans around beyond the map (NAV_OBSTACLES): the cells where the
+// latest scan's returns near the robot fall and the map holds no obstacle, as centres in "map".
+struct PlanningObstacles {
+  int64_t utime = 0;  // when the navigator marked them
+  std::vector<Point2d> points_m;
+};
+
+// `map` with the cells under `obstacles.points_m` occupied (points off the map are skipped):
+// the map the navigator plans on, for a planner that must agree with it. nullopt when there
+// is nothing to mark: no points, or points more than 10 s older than `utime` (the navigator
+// sends them with every map at least, and SLAM re-announces an unchanged one every 5 s, so
+// older ones come from a navigator gone quiet).
+std::optional<OccupancyGrid> WithPlanningObstacles(const OccupancyGrid& map,
+                                                   const PlanningObstacles& obstacles,
+                                                   int64_t utime);
 
 }  // namespace aslam

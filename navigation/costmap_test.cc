@@ -569,3 +569,25 @@ TEST(CostmapUpdateTest, LocalChangeIsIncrementalAndRemovalsClearInflation) {
 
 }  // namespace
 }  // namespace aslam
+
+namespace aslam {
+namespace {
+
+TEST(PlanningObstaclesTest, MarkTheirCellsOccupiedUnlessOffTheMapOrStale) {
+  const OccupancyGrid map(20, 10, 0.1, {-1.0, 0.0}, OccupancyGrid::kUnknown);
+  const PlanningObstacles obstacles{5'000'000, {{0.05, 0.25}, {-0.95, 0.95}, {3.0, 0.5}}};
+  const std::optional<OccupancyGrid> marked = WithPlanningObstacles(map, obstacles, 15'000'000);
+  ASSERT_TRUE(marked.has_value());
+  int occupied = 0;
+  for (int8_t cell : marked->cells()) occupied += cell == OccupancyGrid::kOccupied;
+  EXPECT_EQ(occupied, 2);  // (3.0, 0.5) is off the map
+  EXPECT_EQ(marked->at({10, 2}), OccupancyGrid::kOccupied);
+  EXPECT_EQ(marked->at({0, 9}), OccupancyGrid::kOccupied);
+  EXPECT_EQ(marked->at({10, 3}), OccupancyGrid::kUnknown);
+  // More than 10 s old, or none: nothing to mark.
+  EXPECT_FALSE(WithPlanningObstacles(map, obstacles, 15'000'001).has_value());
+  EXPECT_FALSE(WithPlanningObstacles(map, PlanningObstacles{15'000'000, {}}, 15'000'000));
+}
+
+}  // namespace
+}  // namespace aslam

@@ -89,4 +89,32 @@ nav_path_t PathToLcm(int64_t utime, int64_t goal_id, const std::vector<Point2d>&
   return msg;
 }
 
+nav_obstacles_t ToLcm(const PlanningObstacles& obstacles) {
+  nav_obstacles_t msg{};
+  msg.utime = obstacles.utime;
+  msg.num_points = static_cast<int32_t>(obstacles.points_m.size());
+  msg.x_m.reserve(obstacles.points_m.size());
+  msg.y_m.reserve(obstacles.points_m.size());
+  for (const Point2d& p : obstacles.points_m) {
+    msg.x_m.push_back(static_cast<float>(p.x_m));
+    msg.y_m.push_back(static_cast<float>(p.y_m));
+  }
+  return msg;
+}
+
+std::optional<PlanningObstacles> FromLcm(const nav_obstacles_t& msg) {
+  if (msg.num_points < 0 || msg.x_m.size() != static_cast<std::size_t>(msg.num_points) ||
+      msg.y_m.size() != msg.x_m.size()) {
+    return std::nullopt;
+  }
+  PlanningObstacles obstacles;
+  obstacles.utime = msg.utime;
+  obstacles.points_m.reserve(msg.x_m.size());
+  for (std::size_t i = 0; i < msg.x_m.size(); ++i) {
+    if (!std::isfinite(msg.x_m[i]) || !std::isfinite(msg.y_m[i])) return std::nullopt;
+    obstacles.points_m.push_back({msg.x_m[i], msg.y_m[i]});
+  }
+  return obstacles;
+}
+
 }  // namespace aslam

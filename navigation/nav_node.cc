@@ -46,6 +46,7 @@ bool NavNode::OnPose(const pose_t& msg) {
 bool NavNode::OnMap(MapMessage msg) {
   NoteTime(msg.utime);
   navigator_.SetMap(msg.grid);
+  PublishObstaclesIfChanged();
   return true;
 }
 
@@ -59,6 +60,7 @@ bool NavNode::OnScan(const LidarScan& scan) {
   const velocity_command_t command = ToLcm(out.command);
   lcm_.publish(channels::kCmdVel, &command);
   ++commands_published_;
+  PublishObstaclesIfChanged();
   PublishStatus(out.status);
   PublishPathIfChanged(scan.utime);
   return true;
@@ -90,6 +92,13 @@ void NavNode::PublishPathIfChanged(int64_t utime) {
   const nav_path_t msg = PathToLcm(utime, navigator_.status().goal_id, navigator_.path_m(),
                                    navigator_.path_length_m());
   lcm_.publish(channels::kNavPath, &msg);
+}
+
+void NavNode::PublishObstaclesIfChanged() {
+  if (navigator_.marks_revision() == published_marks_revision_) return;
+  published_marks_revision_ = navigator_.marks_revision();
+  const nav_obstacles_t msg = ToLcm(navigator_.planning_obstacles());
+  lcm_.publish(channels::kNavObstacles, &msg);
 }
 
 void NavNode::PublishStop() {

@@ -2,7 +2,9 @@
 
 // The navigator on LCM: subscribes SLAM_POSE, SLAM_MAP, LIDAR_SCAN and
 // EXPLORE_GOAL; on every scan runs one control cycle and publishes CMD_VEL
-// and NAV_STATUS, and NAV_PATH whenever the path was replanned or cleared.
+// and NAV_STATUS, and NAV_PATH whenever the path was replanned or cleared;
+// NAV_OBSTACLES whenever the scan returns it marks change (before the
+// NAV_STATUS of that cycle, so a listener deciding on it has them).
 // NAV_STATUS also goes out on every goal message and, without scans, at
 // least once per second of pose time. The same node runs in the aslam-nav
 // process and in-process on memq:// (docs/architecture.md §4).
@@ -41,6 +43,7 @@ class NavNode {
   bool OnGoal(const explore_goal_t& msg);
   void PublishStatus(const NavStatus& status);
   void PublishPathIfChanged(int64_t utime);
+  void PublishObstaclesIfChanged();
   void NoteTime(int64_t utime);
 
   lcm::LCM& lcm_;
@@ -51,6 +54,7 @@ class NavNode {
   StreamClock scan_clock_{std::llround(kDefaultMaxTimeGapS * 1e6), kDefaultResyncMessages};
   int64_t last_status_utime_ = 0;
   int64_t published_path_revision_ = 0;
+  int64_t published_marks_revision_ = 0;
   int64_t commands_published_ = 0;
 };
 

@@ -3,11 +3,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "aslam/nav_obstacles_t.hpp"
 #include "aslam/nav_path_t.hpp"
 #include "aslam/nav_status_t.hpp"
 #include "aslam/velocity_command_t.hpp"
@@ -164,6 +166,79 @@ TEST(NavNode, ScanClockJumpsCostOnlyTheirMessagesAndAStepIsFollowed) {
   EXPECT_EQ(node.subscriptions().stats(channels::kLidarScan).rejected, 1 + 2);
   EXPECT_GE(node.navigator().replans(), replans_at_step + 2);
   EXPECT_EQ(node.navigator().status().state, NavState::kActive);
+}
+
+TEST(NavNode, PublishesTheScanReturnsItPlansAroundBeforeTheStatusOfThatCycle) {
+  InProcessHost host;
+  NavNode node(host.lcm(), NavOptions{});
+  std::vector<std::string> order;
+  std::vector<PlanningObstacles> published;
+  Subscriptions listener(host.lcm());
+  listener.Add<nav_obstacles_t>(channels::kNavObstacles, [&](const nav_obstacles_t& m) {
+    published.push_back(*FromLcm(m));
+    order.push_back("obstacles");
+    return true;
+  });
+  listener.Add<nav_status_t>(channels::kNavStatus, [&](const nav_status_t&) {
+    order.push_back("status");
+    return true;
+  });
+  // An open 6 m map, the robot at (1, 1); a goal so that the navigator replans.
+  const OccupancyGrid grid(120, 120, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  const occupancy_grid_t map = ToLcm(grid, 0, 1, "map");
+  host.lcm().publish(channels::kSlamMap, &map);
+  const explore_goal_t goal = ToLcm(NavGoalRequest{0, 1, false, {5.0, 5.0}});
+  host.lcm().publish(channels::kExploreGoal, &goal);
+  host.DispatchPending();
+  // Returns 1.5 m away at every beam: a ring of marks the map does not hold, taken in at the
+  // next replan (1 Hz).
+  PublishPoseAndScan(host, 1'000'000);  // walls at 9 m: beyond the marking range
+  LidarScan scan;
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = 2 * M_PI / 360;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 10.0;
+  scan.range_m.assign(360, 1.5f);
+  for (int64_t utime = 1'100'000; utime <= 2'500'000; utime += 100'000) {
+    const pose_t pose = ToLcm(StampedPose{utime, {1.0, 1.0, 0.0}, 0.0, 0.0}, "map");
+    host.lcm().publish(channels::kSlamPose, &pose);
+    scan.utime = utime;
+    const lidar_scan_t ring = ToLcm(scan);
+    host.lcm().publish(channels::kLidarScan, &ring);
+    host.DispatchPending();
+  }
+
+  ASSERT_FALSE(published.empty());
+  const PlanningObstacles& obstacles = published.back();
+  EXPECT_GE(obstacles.utime, 1'100'000);
+  ASSERT_GT(obstacles.points_m.size(), 50u);
+  for (const Point2d& p : obstacles.points_m) {
+    EXPECT_NEAR(std::hypot(p.x_m - 1.0, p.y_m - 1.0), 1.5, 0.06);
+  }
+  // The cycle that marked them published them first, then its status.
+  const auto last = std::find(order.rbegin(), order.rend(), "obstacles");
+  ASSERT_NE(last, order.rend());
+  ASSERT_NE(last, order.rbegin());
+  EXPECT_EQ(*std::prev(last), "status");
+  // The goal lies beyond the ring, which the map does not hold: the navigator looks again.
+  EXPECT_EQ(node.navigator().status().state, NavState::kActive);
+  EXPECT_THAT(node.navigator().status().detail, HasSubstr("scan returns"));
+}
+
+TEST(NavLcm, ObstaclesRoundTripAndMalformedOnesAreRejected) {
+  const PlanningObstacles obstacles{42, {{1.025, -2.475}, {30.125, 0.025}}};
+  const auto back = FromLcm(ToLcm(obstacles));
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->utime, 42);
+  ASSERT_EQ(back->points_m.size(), 2u);
+  EXPECT_NEAR(back->points_m[0].x_m, 1.025, 1e-6);
+  EXPECT_NEAR(back->points_m[1].y_m, 0.025, 1e-6);
+  nav_obstacles_t short_y = ToLcm(obstacles);
+  short_y.y_m.pop_back();
+  EXPECT_FALSE(FromLcm(short_y).has_value());
+  nav_obstacles_t nan_point = ToLcm(obstacles);
+  nan_point.x_m[1] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(FromLcm(nan_point).has_value());
 }
 
 TEST(NavLcm, StatusRoundTrips) {

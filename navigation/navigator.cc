@@ -73,11 +73,25 @@ void Navigator::UpdateScanMarks() {
   if (costmap_current_ && cells == marked_cells_) return;
   costmap_current_ = true;
   marked_cells_ = std::move(cells);
+  marks_utime_ = scan_utime_;
+  ++marks_revision_;  // on a new map too: the same indices may be other cells of a grown grid
   OccupancyGrid marked = map_;
   for (std::size_t index : marked_cells_) marked.mutable_cells()[index] = OccupancyGrid::kOccupied;
   // Incremental: recomputes only near the cells that changed since the last
   // costmap (new map cells or marks); costs are those of a fresh Costmap.
   costmap_.Update(marked, options_.costmap);
+}
+
+PlanningObstacles Navigator::planning_obstacles() const {
+  PlanningObstacles obstacles;
+  obstacles.utime = marks_utime_;
+  obstacles.points_m.reserve(marked_cells_.size());
+  const int width = map_.width_cells();
+  for (std::size_t index : marked_cells_) {
+    const int row = static_cast<int>(index / width);
+    obstacles.points_m.push_back(map_.CellCenter({static_cast<int>(index) - row * width, row}));
+  }
+  return obstacles;
 }
 
 void Navigator::SetPose(const StampedPose& pose) {
@@ -199,6 +213,7 @@ bool Navigator::PathBlocked() const {
 bool Navigator::Replan(int64_t utime) {
   ++replans_;
   replan_due_ = false;
+  blocked_by_marks_ = false;
   last_plan_utime_ = utime;
   if (utime - scan_utime_ <= Micros(options_.navigator.pose_timeout_s)) UpdateScanMarks();
   const Point2d goal = status_.goal_m;
@@ -231,6 +246,13 @@ bool Navigator::Replan(int64_t utime) {
   std::optional<GlobalPath> path;
   if (reachable) path = snap_tree_.PathTo(*reachable);
   if (!path || path->points_m.empty()) {
+    if (!marked_cells_.empty() && ReachableWithoutMarks(costmap_.WorldToCell(robot), goal_cell)) {
+      // Returns the map does not hold shut the way (clutter, or a gap at the edge of what the
+      // robot fits): they change as it moves, so look again before giving the goal up.
+      blocked_by_marks_ = true;
+      ClearPath();
+      return false;
+    }
     Stop(NavState::kUnreachable,
          Format("no path from (%.2f, %.2f) to goal (%.2f, %.2f) in the costmap", robot.x_m,
                 robot.y_m, goal.x_m, goal.y_m));
@@ -239,6 +261,15 @@ bool Navigator::Replan(int64_t utime) {
   plan_target_m_ = costmap_.CellCenter(*reachable);
   SetPath(std::move(path->points_m));
   return true;
+}
+
+bool Navigator::ReachableWithoutMarks(CellIndex robot_cell, CellIndex goal_cell) {
+  unmarked_costmap_.Update(map_, options_.costmap);
+  const std::vector<CellIndex> candidates =
+      GoalSnapCandidates(unmarked_costmap_, goal_cell, options_.navigator.goal_snap_m);
+  if (candidates.empty() && !unmarked_costmap_.Traversable(goal_cell)) return false;
+  planner_.Search(unmarked_costmap_, robot_cell, candidates, &snap_tree_);
+  return ReachableGoalCell(snap_tree_, goal_cell, candidates).has_value();
 }
 
 bool Navigator::PlanTo(CellIndex target_cell, int64_t utime) {
@@ -375,7 +406,7 @@ double Navigator::ChooseBackOffHeading(const LocalObstacles& obstacles) const {
 }
 
 void Navigator::StartRecovery(int64_t utime, const std::string& reason,
-                              const LocalObstacles& obstacles) {
+                              const LocalObstacles& obstacles, bool look) {
   const NavigatorOptions& n = options_.navigator;
   if (status_.recoveries_used >= n.max_recoveries) {
     Stop(NavState::kFailed,
@@ -388,7 +419,9 @@ void Navigator::StartRecovery(int64_t utime, const std::string& reason,
   recovery_reason_ = reason;
   status_.detail = "recovering: " + reason;
   phase_start_utime_ = utime;
-  rotate_target_yaw_rad_ = ChooseBackOffHeading(obstacles);
+  looking_ = look;
+  rotate_target_yaw_rad_ =
+      look ? WrapAngle(pose_->pose.yaw_rad + M_PI - 0.05) : ChooseBackOffHeading(obstacles);
 }
 
 VelocityCommand Navigator::StepRecovery(int64_t utime, const LocalObstacles& obstacles) {
@@ -406,6 +439,7 @@ VelocityCommand Navigator::StepRecovery(int64_t utime, const LocalObstacles& obs
       command.angular_radps = std::copysign(speed, error_rad);
       return command;
     }
+    if (looking_) return EndRecovery(utime, command);  // turned around and still shut: look again
     status_.recovery = RecoveryPhase::kBackOff;
     phase_start_utime_ = utime;
     back_off_start_m_ = Position(pose);
@@ -416,9 +450,14 @@ VelocityCommand Navigator::StepRecovery(int64_t utime, const LocalObstacles& obs
     command.linear_mps = -r.back_off_speed_mps;
     return command;
   }
-  // Done: replan from here and retry.
+  return EndRecovery(utime, command);
+}
+
+VelocityCommand Navigator::EndRecovery(int64_t utime, const VelocityCommand& command) {
+  // Replan from here and retry.
   status_.recovery = RecoveryPhase::kNone;
   status_.detail.clear();
+  looking_ = false;
   replan_due_ = true;
   dwa_failures_ = 0;
   ResetProgress(utime);
@@ -481,10 +520,15 @@ NavOutput Navigator::Step(int64_t utime) {
     return finish({});
   }
 
-  if (status_.recovery == RecoveryPhase::kNone &&
+  bool planned = true;
+  // A look around replans every cycle (it has no path) and ends at the first plan.
+  const bool may_plan = status_.recovery == RecoveryPhase::kNone || looking_;
+  if (may_plan &&
       (replan_due_ || !has_path_ || utime - last_plan_utime_ >= Micros(n.replan_period_s))) {
     out.replanned = true;
-    if (!Replan(utime)) return finish({});
+    planned = Replan(utime);
+    if (!planned && !blocked_by_marks_) return finish({});
+    if (planned && looking_) EndRecovery(utime, {});
   }
   AdvancePathIndex();
   status_.distance_remaining_m = DistanceRemainingM();
@@ -493,6 +537,14 @@ NavOutput Navigator::Step(int64_t utime) {
   const bool scan_fresh = utime - scan_utime_ <= Micros(n.pose_timeout_s);
   const LocalObstacles obstacles(map_, scan_fresh ? scan_points_m_ : kNoPoints, pose_->pose,
                                  options_.local_obstacles);
+  if (!planned) {
+    if (!looking_) {
+      StartRecovery(utime, "no path past scan returns the map does not hold", obstacles,
+                    /*look=*/true);
+      if (status_.state != NavState::kActive) return finish({});
+    }
+    return finish(StepRecovery(utime, obstacles));
+  }
 
   if (status_.recovery == RecoveryPhase::kNone) {
     const double remaining_m = status_.distance_remaining_m;

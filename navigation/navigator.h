@@ -7,6 +7,8 @@
 //   SetGoal -> active --(within goal_tolerance_m)--> reached
 //                |  (facing far off the path: stop and turn toward it first)
 //                |  \--(goal in an obstacle / no path)--> unreachable
+//                |   (no path only past scan returns the map does not hold: first a look
+//                |   around, a half turn in place replanning every cycle, counted as a recovery)
 //                |--(no progress for progress_timeout_s, or the DWA finds
 //                |   no admissible trajectory several cycles running)-->
 //                |   recovery: rotate (to the heading that backing off
@@ -103,6 +105,10 @@ class Navigator {
   bool has_map() const { return has_map_; }
   const Costmap& costmap() const { return costmap_; }
   const std::vector<Point2d>& scan_points_m() const { return scan_points_m_; }
+  // The scan returns marked into the planning costmap (NAV_OBSTACLES), stamped with their scan.
+  PlanningObstacles planning_obstacles() const;
+  // Increases whenever the marked cells change.
+  int64_t marks_revision() const { return marks_revision_; }
   const NavOptions& options() const { return options_; }
   int64_t replans() const { return replans_; }
   // The latest DWA result (for viewers, tests and tracing).
@@ -110,7 +116,10 @@ class Navigator {
 
  private:
   void Stop(NavState state, const std::string& detail);
-  bool Replan(int64_t utime);                         // false: goal unreachable (state set)
+  // false: no path; the state says unreachable, or blocked_by_marks_ is set (still active).
+  bool Replan(int64_t utime);
+  // Whether the goal could be reached on the map alone, without the scan marks.
+  bool ReachableWithoutMarks(CellIndex robot_cell, CellIndex goal_cell);
   bool PlanTo(CellIndex target_cell, int64_t utime);  // A* to the cell; false: no path
   void SetPath(std::vector<Point2d> points_m);
   bool PathBlocked() const;
@@ -122,8 +131,13 @@ class Navigator {
   // Marks the scan points within scan_mark_range_m that do not fall on a mapped
   // obstacle cell into the planning costmap (rebuilt only when the marks change).
   void UpdateScanMarks();
-  void StartRecovery(int64_t utime, const std::string& reason, const LocalObstacles& obstacles);
+  // `look`: a half turn in place that replans every cycle and ends as soon as a plan exists,
+  // instead of rotating to back off.
+  void StartRecovery(int64_t utime, const std::string& reason, const LocalObstacles& obstacles,
+                     bool look = false);
   VelocityCommand StepRecovery(int64_t utime, const LocalObstacles& obstacles);
+  // Back to driving: replan now, progress counted from here; returns `command`.
+  VelocityCommand EndRecovery(int64_t utime, const VelocityCommand& command);
   double ChooseBackOffHeading(const LocalObstacles& obstacles) const;
   bool RearClear(const LocalObstacles& obstacles) const;
   void ResetProgress(int64_t utime);
@@ -142,7 +156,11 @@ class Navigator {
   OccupancyGrid map_;
   Costmap costmap_;
   std::vector<std::size_t> marked_cells_;  // map cells marked from the scan, sorted
-  bool costmap_current_ = false;           // costmap_ = map_ + marked_cells_
+  int64_t marks_utime_ = 0;                // the scan they came from
+  int64_t marks_revision_ = 0;
+  bool costmap_current_ = false;   // costmap_ = map_ + marked_cells_
+  Costmap unmarked_costmap_;       // map_ alone, brought up to date only when asked
+  bool blocked_by_marks_ = false;  // the last replan found the way shut by marks only
   bool has_map_ = false;
   std::optional<StampedPose> pose_;
   // The last second of poses: a swept scan's beams are placed from the pose at each one's time.
@@ -177,6 +195,7 @@ class Navigator {
 
   // The running recovery.
   std::string recovery_reason_;
+  bool looking_ = false;  // a look around (see StartRecovery)
   int64_t phase_start_utime_ = 0;
   double rotate_target_yaw_rad_ = 0.0;
   Point2d back_off_start_m_;

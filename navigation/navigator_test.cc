@@ -531,6 +531,53 @@ TEST(Navigator, ScanReturnsBesideAMappedWallNarrowAGapForThePlannerToo) {
   EXPECT_GT(max_y_m, 7.0);  // through the north door
 }
 
+// A chair the map does not hold in the only doorway: the scan's returns shut the way the map
+// shows open. They change as the robot moves or the chair does, so the navigator looks again
+// (a recovery) instead of calling the goal unreachable at once.
+std::vector<Point2d> ChairInTheNorthDoor() {
+  std::vector<Point2d> chair;
+  for (double y = 6.9; y <= 8.1; y += 0.05) chair.push_back({4.85, y});
+  return chair;
+}
+
+TEST(Navigator, ScanReturnsShuttingTheOnlyWayAreLookedPastBeforeTheGoalIsGivenUp) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/false));
+  Drive drive{{2.5, 7.5, 0.0}};
+  navigator.SetGoal(1, {7.5, 7.5}, 0);
+  DriveSeeing(navigator, drive, ChairInTheNorthDoor(), 1.0);
+  EXPECT_EQ(navigator.status().state, NavState::kActive) << navigator.status().detail;
+  EXPECT_NE(navigator.status().recovery, RecoveryPhase::kNone);
+  EXPECT_THAT(navigator.status().detail, HasSubstr("scan returns the map does not hold"));
+  // It looks around in place: turned, not moved.
+  EXPECT_DOUBLE_EQ(drive.pose.x_m, 2.5);
+  EXPECT_DOUBLE_EQ(drive.pose.y_m, 7.5);
+  EXPECT_GT(std::abs(drive.pose.yaw_rad), 0.3);
+  DriveSeeing(navigator, drive, {}, 120.0);  // the chair is gone
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+}
+
+TEST(Navigator, ScanReturnsThatKeepTheWayShutFailTheGoalAfterTheRecoveries) {
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/false));
+  Drive drive{{2.5, 7.5, 0.0}};
+  navigator.SetGoal(1, {7.5, 7.5}, 0);
+  DriveSeeing(navigator, drive, ChairInTheNorthDoor(), 300.0);
+  EXPECT_EQ(navigator.status().state, NavState::kFailed);
+  EXPECT_THAT(navigator.status().detail, HasSubstr("scan returns the map does not hold after"));
+  EXPECT_EQ(navigator.status().recoveries_used, NavOptions{}.navigator.max_recoveries);
+  EXPECT_LT(drive.pose.x_m, 4.6);  // never through the chair
+
+  // A way the map itself shuts is unreachable at once, marks or not.
+  OccupancyGrid closed = Room(/*divider=*/true, /*south_gap=*/false);
+  for (int row = 0; row < 200; ++row) closed.at({100, row}) = 100;
+  navigator.SetMap(closed);
+  navigator.SetGoal(2, {7.5, 7.5}, drive.utime);
+  DriveSeeing(navigator, drive, ChairInTheNorthDoor(), 1.0);
+  EXPECT_EQ(navigator.status().state, NavState::kUnreachable);
+  EXPECT_THAT(navigator.status().detail, HasSubstr("no path"));
+}
+
 TEST(Navigator, AGoalANewlySeenObstacleSwallowsIsReachedWhereTheRobotSeesIt) {
   // A frontier target the map shows free, 0.06 m in front of a crate that only the scan shows:
   // the robot cannot stand there, nor within 0.15 m; it stops at a cell that sees the goal.

@@ -8,6 +8,7 @@
 #include "aslam/explore_goal_t.hpp"
 #include "aslam/frontier_list_t.hpp"
 #include "aslam/lidar_scan_t.hpp"
+#include "aslam/nav_obstacles_t.hpp"
 #include "aslam/nav_status_t.hpp"
 #include "aslam/occupancy_grid_t.hpp"
 #include "aslam/odometry_t.hpp"
@@ -32,7 +33,7 @@ void DecodeAndTranslate(const uint8_t* data, std::size_t size, Translate transla
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace aslam;
   if (size < 1) return 0;
-  const uint8_t which = data[0] % 9;
+  const uint8_t which = data[0] % 10;
   ++data;
   --size;
   switch (which) {
@@ -71,6 +72,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         (void)FromLcm(m);
         (void)MapFrameGridFromLcm(m);
       });
+      break;
+    case 9:
+      DecodeAndTranslate<nav_obstacles_t>(data, size, [](const auto& m) { (void)FromLcm(m); });
       break;
   }
   return 0;
