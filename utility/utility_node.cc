@@ -32,6 +32,8 @@ UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
                                       [this](const frontier_list_t& m) { return OnFrontiers(m); });
   subscriptions_.Add<nav_status_t>(channels::kNavStatus,
                                    [this](const nav_status_t& m) { return OnNavStatus(m); });
+  subscriptions_.Add<nav_obstacles_t>(
+      channels::kNavObstacles, [this](const nav_obstacles_t& m) { return OnNavObstacles(m); });
   subscriptions_.Add<explore_control_t>(
       channels::kExploreControl, [this](const explore_control_t& m) { return OnControl(m); });
 }
@@ -74,6 +76,13 @@ bool UtilityNode::OnNavStatus(const nav_status_t& msg) {
   return true;
 }
 
+bool UtilityNode::OnNavObstacles(const nav_obstacles_t& msg) {
+  std::optional<PlanningObstacles> obstacles = FromLcm(msg);
+  if (!obstacles) return false;
+  nav_obstacles_ = std::move(*obstacles);
+  return true;
+}
+
 bool UtilityNode::OnControl(const explore_control_t& msg) {
   const auto command = ExploreCommandFromLcm(msg.command);
   if (!command) return false;  // counted as rejected by the subscription
@@ -113,16 +122,23 @@ void UtilityNode::Decide(const DecisionRequest& request) {
   const Pose2d& robot = manager_.pose().pose;
   // Wall clock for the compute_ms diagnostic only; the decision itself uses message time.
   const auto start = std::chrono::steady_clock::now();
-  GoalDecision decision = selector_.Decide(manager_.map(), robot, manager_.graph(),
-                                           manager_.frontiers(), manager_.blacklist_m());
+  // Plan as the navigator will, past the scan returns it marks; when nothing is reachable
+  // that way, on the map alone (the navigator looks again before it gives such a goal up).
+  const std::optional<OccupancyGrid> marked =
+      WithPlanningObstacles(manager_.map(), nav_obstacles_, manager_.pose().utime);
+  auto decide = [&](const OccupancyGrid& map) {
+    return selector_.Decide(map, robot, manager_.graph(), manager_.frontiers(),
+                            manager_.blacklist_m());
+  };
+  GoalDecision decision = decide(marked ? *marked : manager_.map());
+  if (!decision.has_goal() && marked) decision = decide(manager_.map());
   if (!decision.has_goal()) {
     // Reachable frontiers that only the blacklist keeps out get one more try before done.
     const std::vector<std::size_t> retry =
         selector_.PointsToRetry(decision, manager_.blacklist_m(), manager_.retried_m());
     if (!retry.empty()) {
       manager_.ForgiveBlacklist(retry);
-      decision = selector_.Decide(manager_.map(), robot, manager_.graph(), manager_.frontiers(),
-                                  manager_.blacklist_m());
+      decision = decide(manager_.map());
     }
   }
   last_compute_ms_ =

@@ -1,9 +1,10 @@
 #pragma once
 
 // The utility on LCM: subscribes FRONTIERS, POSE_GRAPH, SLAM_MAP, SLAM_POSE,
-// NAV_STATUS and EXPLORE_CONTROL; hands them to the ExplorationManager (when to decide, goal
-// ids, blacklist, resends, cancels, done: docs/architecture.md §9), runs the
-// GoalSelector when a decision is due, and publishes UTILITY_SCORES,
+// NAV_STATUS, NAV_OBSTACLES and EXPLORE_CONTROL; hands them to the ExplorationManager (when to
+// decide, goal ids, blacklist, resends, cancels, done: docs/architecture.md §9), runs the
+// GoalSelector when a decision is due (on the map with the navigator's latest obstacles
+// marked, so that it plans as the navigator will), and publishes UTILITY_SCORES,
 // EXPLORE_GOAL and EXPLORE_STATUS as the manager says. The same node runs in
 // the aslam-utility process and in-process on memq:// (docs/architecture.md §4).
 
@@ -16,11 +17,13 @@
 
 #include "aslam/explore_control_t.hpp"
 #include "aslam/frontier_list_t.hpp"
+#include "aslam/nav_obstacles_t.hpp"
 #include "aslam/nav_status_t.hpp"
 #include "aslam/pose_graph_t.hpp"
 #include "aslam/pose_t.hpp"
 #include "common/lcm_util.h"
 #include "common/types_lcm.h"
+#include "navigation/costmap.h"
 #include "utility/exploration_manager.h"
 #include "utility/goal_selector.h"
 #include "utility/utility_config.h"
@@ -58,6 +61,7 @@ class UtilityNode {
   bool OnGraph(const pose_graph_t& msg);
   bool OnFrontiers(const frontier_list_t& msg);
   bool OnNavStatus(const nav_status_t& msg);
+  bool OnNavObstacles(const nav_obstacles_t& msg);
   bool OnControl(const explore_control_t& msg);
   // Publishes what the manager asked for, running the selector for a due decision.
   void Carry(const ExploreActions& actions);
@@ -67,6 +71,7 @@ class UtilityNode {
   GoalSelector selector_;
   ExplorationManager manager_;
   Subscriptions subscriptions_;
+  PlanningObstacles nav_obstacles_;  // the navigator's latest
   std::optional<GoalDecision> last_decision_;
   double last_compute_ms_ = 0.0;
   std::string state_file_;

@@ -18,6 +18,7 @@
 #include "common/test_temp_dir.h"
 #include "common/types_lcm.h"
 #include "frontier/frontier_lcm.h"
+#include "navigation/nav_lcm.h"
 #include "utility/explore_control_client.h"
 #include "utility/utility_lcm.h"
 
@@ -344,6 +345,46 @@ TEST(UtilityNode, DecidesAndFollowsTheNavigator) {
   ASSERT_EQ(bench.goals.size(), 4u);
   EXPECT_EQ(bench.goals[3].frontier_id, 9);
   EXPECT_EQ(bench.node().subscriptions().total_dropped(), 0);
+}
+
+TEST(UtilityNode, PlansAroundTheNavigatorsObstacles) {
+  Bench bench(UtilityMethod::kFd);
+  // Scan returns the map does not hold box the nearer frontier in against the south wall.
+  PlanningObstacles box{100'000, {}};
+  for (int i = 0; i <= 15; ++i) {
+    const double along_m = 0.05 + 0.1 * i;
+    box.points_m.push_back({1.55, along_m});
+    box.points_m.push_back({2.55, along_m});
+    if (i <= 10) box.points_m.push_back({1.55 + 0.1 * i, 1.55});
+  }
+  bench.Send(channels::kNavObstacles, ToLcm(box));
+  bench.Map(100'000);
+  bench.Pose(100'000);
+  bench.Frontiers(200'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+  ASSERT_EQ(bench.scores.size(), 1u);
+  EXPECT_EQ(bench.scores[0].chosen_frontier_id, 9);
+  EXPECT_FALSE(bench.scores[0].scores[1].eligible);  // kNear: the navigator would find no path
+  EXPECT_EQ(bench.node().subscriptions().total_dropped(), 0);
+}
+
+TEST(UtilityNode, WhenTheNavigatorsObstaclesShutEveryFrontierOffItPlansOnTheMapAlone) {
+  // A ring of returns around the robot (clutter it came in through): no frontier is reachable
+  // past it, yet exploration goes on, to the nearest frontier on the map alone.
+  Bench bench(UtilityMethod::kFd, /*done_timeout_s=*/1.0);
+  PlanningObstacles ring{100'000, {}};
+  for (int k = 0; k < 72; ++k) {
+    const double angle_rad = k * 2.0 * M_PI / 72;
+    ring.points_m.push_back(
+        {kRobot.x_m + 0.6 * std::cos(angle_rad), kRobot.y_m + 0.6 * std::sin(angle_rad)});
+  }
+  bench.Send(channels::kNavObstacles, ToLcm(ring));
+  bench.Map(100'000);
+  bench.Pose(100'000);
+  bench.Frontiers(200'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+  ASSERT_EQ(bench.goals.size(), 1u);
+  EXPECT_EQ(bench.goals[0].frontier_id, 7);
+  bench.Frontiers(3'000'000, {MakeFrontier(9, kFar), MakeFrontier(7, kNear)});
+  EXPECT_NE(bench.statuses.back().state, explore_status_t::STATE_DONE);
 }
 
 TEST(UtilityNode, AStateFileCarriesTheCountsAcrossARestart) {
