@@ -73,32 +73,36 @@ std::optional<NavStatus> FromLcm(const nav_status_t& msg) {
   return status;
 }
 
+namespace {
+
+// Fills a message's num_points, x_m and y_m (floats) from `points_m`.
+template <typename Msg>
+void SetPoints(const std::vector<Point2d>& points_m, Msg* msg) {
+  msg->num_points = static_cast<int32_t>(points_m.size());
+  msg->x_m.reserve(points_m.size());
+  msg->y_m.reserve(points_m.size());
+  for (const Point2d& p : points_m) {
+    msg->x_m.push_back(static_cast<float>(p.x_m));
+    msg->y_m.push_back(static_cast<float>(p.y_m));
+  }
+}
+
+}  // namespace
+
 nav_path_t PathToLcm(int64_t utime, int64_t goal_id, const std::vector<Point2d>& path_m,
                      double length_m) {
   nav_path_t msg{};
   msg.utime = utime;
   msg.goal_id = goal_id;
   msg.length_m = length_m;
-  msg.num_points = static_cast<int32_t>(path_m.size());
-  msg.x_m.reserve(path_m.size());
-  msg.y_m.reserve(path_m.size());
-  for (const Point2d& p : path_m) {
-    msg.x_m.push_back(static_cast<float>(p.x_m));
-    msg.y_m.push_back(static_cast<float>(p.y_m));
-  }
+  SetPoints(path_m, &msg);
   return msg;
 }
 
 nav_obstacles_t ToLcm(const PlanningObstacles& obstacles) {
   nav_obstacles_t msg{};
   msg.utime = obstacles.utime;
-  msg.num_points = static_cast<int32_t>(obstacles.points_m.size());
-  msg.x_m.reserve(obstacles.points_m.size());
-  msg.y_m.reserve(obstacles.points_m.size());
-  for (const Point2d& p : obstacles.points_m) {
-    msg.x_m.push_back(static_cast<float>(p.x_m));
-    msg.y_m.push_back(static_cast<float>(p.y_m));
-  }
+  SetPoints(obstacles.points_m, &msg);
   return msg;
 }
 

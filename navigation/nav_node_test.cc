@@ -120,8 +120,9 @@ TEST(NavNode, StatusKeepsComingWithoutScansAndShutdownPublishesAStop) {
   EXPECT_EQ(commands[0].angular_radps, 0.0);
 }
 
-// Publishes a parked robot's pose and scan at `utime` on an open map.
-void PublishPoseAndScan(InProcessHost& host, int64_t utime) {
+// Publishes a parked robot's pose and a scan with every beam at `range_m` (by default walls far
+// beyond the goal) at `utime` on an open map.
+void PublishPoseAndScan(InProcessHost& host, int64_t utime, float range_m = 9.0f) {
   const pose_t pose = ToLcm(StampedPose{utime, {1.0, 1.0, 0.0}, 0.0, 0.0}, "map");
   host.lcm().publish(channels::kSlamPose, &pose);
   LidarScan scan;
@@ -130,7 +131,7 @@ void PublishPoseAndScan(InProcessHost& host, int64_t utime) {
   scan.angle_increment_rad = 2 * M_PI / 360;
   scan.range_min_m = 0.1;
   scan.range_max_m = 10.0;
-  scan.range_m.assign(360, 9.0f);  // walls far beyond the goal
+  scan.range_m.assign(360, range_m);
   const lidar_scan_t msg = ToLcm(scan);
   host.lcm().publish(channels::kLidarScan, &msg);
   host.DispatchPending();
@@ -193,19 +194,8 @@ TEST(NavNode, PublishesTheScanReturnsItPlansAroundBeforeTheStatusOfThatCycle) {
   // Returns 1.5 m away at every beam: a ring of marks the map does not hold, taken in at the
   // next replan (1 Hz).
   PublishPoseAndScan(host, 1'000'000);  // walls at 9 m: beyond the marking range
-  LidarScan scan;
-  scan.angle_min_rad = -M_PI;
-  scan.angle_increment_rad = 2 * M_PI / 360;
-  scan.range_min_m = 0.1;
-  scan.range_max_m = 10.0;
-  scan.range_m.assign(360, 1.5f);
   for (int64_t utime = 1'100'000; utime <= 2'500'000; utime += 100'000) {
-    const pose_t pose = ToLcm(StampedPose{utime, {1.0, 1.0, 0.0}, 0.0, 0.0}, "map");
-    host.lcm().publish(channels::kSlamPose, &pose);
-    scan.utime = utime;
-    const lidar_scan_t ring = ToLcm(scan);
-    host.lcm().publish(channels::kLidarScan, &ring);
-    host.DispatchPending();
+    PublishPoseAndScan(host, utime, 1.5f);
   }
 
   ASSERT_FALSE(published.empty());
