@@ -159,6 +159,7 @@ void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
   replan_due_ = true;
   dwa_failures_ = 0;
   aligning_ = false;
+  looking_ = false;
   ResetProgress(utime);
 }
 
@@ -181,6 +182,7 @@ void Navigator::ClearPath() {
 void Navigator::Stop(NavState state, const std::string& detail) {
   status_.state = state;
   status_.recovery = RecoveryPhase::kNone;
+  looking_ = false;
   status_.detail = detail;
   if (state != NavState::kReached) status_.distance_remaining_m = -1.0;
   ClearPath();

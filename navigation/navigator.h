@@ -107,7 +107,7 @@ class Navigator {
   const std::vector<Point2d>& scan_points_m() const { return scan_points_m_; }
   // The scan returns marked into the planning costmap (NAV_OBSTACLES), stamped with their scan.
   PlanningObstacles planning_obstacles() const;
-  // Increases whenever the marked cells change.
+  // Increases whenever the marks are recomputed to something new, and with every map.
   int64_t marks_revision() const { return marks_revision_; }
   const NavOptions& options() const { return options_; }
   int64_t replans() const { return replans_; }

@@ -553,6 +553,11 @@ TEST(Navigator, ScanReturnsShuttingTheOnlyWayAreLookedPastBeforeTheGoalIsGivenUp
   EXPECT_DOUBLE_EQ(drive.pose.x_m, 2.5);
   EXPECT_DOUBLE_EQ(drive.pose.y_m, 7.5);
   EXPECT_GT(std::abs(drive.pose.yaw_rad), 0.3);
+  // A new goal behind the same chair, mid-look: a look of its own, still in place.
+  navigator.SetGoal(2, {7.5, 7.0}, drive.utime);
+  DriveSeeing(navigator, drive, ChairInTheNorthDoor(), 0.5);
+  EXPECT_EQ(navigator.status().recovery, RecoveryPhase::kRotate);
+  EXPECT_DOUBLE_EQ(drive.pose.x_m, 2.5);
   DriveSeeing(navigator, drive, {}, 120.0);  // the chair is gone
   EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
 }
