@@ -137,15 +137,20 @@ void PublishPoseAndScan(InProcessHost& host, int64_t utime, float range_m = 9.0f
   host.DispatchPending();
 }
 
-TEST(NavNode, ScanClockJumpsCostOnlyTheirMessagesAndAStepIsFollowed) {
-  InProcessHost host;
-  NavNode node(host.lcm(), NavOptions{});
+// An open 6 m map and a goal at (5, 5), so that the navigator replans.
+void PublishOpenMapAndGoal(InProcessHost& host) {
   const OccupancyGrid grid(120, 120, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
   const occupancy_grid_t map = ToLcm(grid, 0, 1, "map");
   host.lcm().publish(channels::kSlamMap, &map);
   const explore_goal_t goal = ToLcm(NavGoalRequest{0, 1, false, {5.0, 5.0}});
   host.lcm().publish(channels::kExploreGoal, &goal);
   host.DispatchPending();
+}
+
+TEST(NavNode, ScanClockJumpsCostOnlyTheirMessagesAndAStepIsFollowed) {
+  InProcessHost host;
+  NavNode node(host.lcm(), NavOptions{});
+  PublishOpenMapAndGoal(host);
   constexpr int64_t kStepUs = 100'000;
   int64_t utime = 1'000'000;
   for (int i = 0; i < 20; ++i, utime += kStepUs) PublishPoseAndScan(host, utime);
@@ -184,13 +189,7 @@ TEST(NavNode, PublishesTheScanReturnsItPlansAroundBeforeTheStatusOfThatCycle) {
     order.push_back("status");
     return true;
   });
-  // An open 6 m map, the robot at (1, 1); a goal so that the navigator replans.
-  const OccupancyGrid grid(120, 120, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
-  const occupancy_grid_t map = ToLcm(grid, 0, 1, "map");
-  host.lcm().publish(channels::kSlamMap, &map);
-  const explore_goal_t goal = ToLcm(NavGoalRequest{0, 1, false, {5.0, 5.0}});
-  host.lcm().publish(channels::kExploreGoal, &goal);
-  host.DispatchPending();
+  PublishOpenMapAndGoal(host);
   // Returns 1.5 m away at every beam: a ring of marks the map does not hold, taken in at the
   // next replan (1 Hz).
   PublishPoseAndScan(host, 1'000'000);  // walls at 9 m: beyond the marking range
