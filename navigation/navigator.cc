@@ -226,21 +226,22 @@ bool Navigator::Replan(int64_t utime) {
          Format("goal (%.2f, %.2f) is outside the map", goal.x_m, goal.y_m));
     return false;
   }
-  if (costmap_.cost(goal_cell) >= Costmap::kLethal) {
-    Stop(NavState::kUnreachable, Format("goal (%.2f, %.2f) is in an obstacle", goal.x_m, goal.y_m));
-    return false;
-  }
   if (costmap_.Traversable(costmap_.WorldToCell(plan_target_m_)) &&
       PlanTo(costmap_.WorldToCell(plan_target_m_), utime)) {
     return true;
   }
   // The goal (or the cell kept for it) cannot be stood on or got to: approach it at the
-  // nearest reachable cell that sees it, and keep that cell while it can be planned to.
+  // nearest reachable cell that sees it, and keep that cell while it can be planned to. A goal
+  // on an obstacle's face (a frontier a newer scan or map closed) is approached the same way,
+  // as the utility does when it chooses one.
   const std::vector<CellIndex> candidates =
       GoalSnapCandidates(costmap_, goal_cell, options_.navigator.goal_snap_m);
   if (candidates.empty() && !costmap_.Traversable(goal_cell)) {
     Stop(NavState::kUnreachable,
-         Format("goal (%.2f, %.2f) is too close to an obstacle for the robot", goal.x_m, goal.y_m));
+         costmap_.cost(goal_cell) >= Costmap::kLethal
+             ? Format("goal (%.2f, %.2f) is in an obstacle", goal.x_m, goal.y_m)
+             : Format("goal (%.2f, %.2f) is too close to an obstacle for the robot", goal.x_m,
+                      goal.y_m));
     return false;
   }
   planner_.Search(costmap_, costmap_.WorldToCell(robot), candidates, &snap_tree_);

@@ -6,7 +6,8 @@
 //
 //   SetGoal -> active --(within goal_tolerance_m)--> reached
 //                |  (facing far off the path: stop and turn toward it first)
-//                |  \--(goal in an obstacle / no path)--> unreachable
+//                |  (a goal it cannot stand on: the nearest reachable cell that sees it)
+//                |  \--(nowhere to see the goal from / no path)--> unreachable
 //                |   (no path only past scan returns the map does not hold: first a look
 //                |   around, a half turn in place replanning every cycle, counted as a recovery)
 //                |--(no progress for progress_timeout_s, or the DWA finds

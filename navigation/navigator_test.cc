@@ -189,6 +189,22 @@ TEST(Navigator, GoalInAWallIsUnreachable) {
   EXPECT_THAT(navigator.Step(2 * kCycleUs).status.detail, HasSubstr("outside the map"));
 }
 
+TEST(Navigator, AGoalOnAWallsFaceIsApproachedWhereTheRobotSeesIt) {
+  // A frontier target that a newer map drew the wall over: the robot looks at it from the
+  // nearest cell it can stand on, as the utility planned when it chose the goal.
+  Navigator navigator{NavOptions{}};
+  navigator.SetMap(Room());
+  const Point2d goal{9.875, 5.0};  // the east wall's inner cell
+  ASSERT_EQ(Room().at(Room().WorldToCell(goal)), 100);
+  Drive drive{{2.0, 5.0, 0.0}};
+  navigator.SetGoal(1, goal, 0);
+  drive.Run(navigator, 60.0);
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+  EXPECT_GT(drive.min_wall_clearance_m, 0.2);
+  EXPECT_LT(std::hypot(drive.pose.x_m - goal.x_m, drive.pose.y_m - goal.y_m),
+            NavOptions{}.navigator.goal_snap_m + NavOptions{}.navigator.goal_tolerance_m);
+}
+
 TEST(Navigator, GoalWithoutAPathIsUnreachable) {
   OccupancyGrid map = Room();
   // A closed box around (7, 7).
