@@ -212,23 +212,33 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
       s.u2 = u2.u2;
     }
 
-    if (!s.eligible()) {
-      s.total = kMinusInf;
-      continue;
-    }
-    switch (method) {
-      case UtilityMethod::kFd: s.total = -s.path_length_m; break;
-      case UtilityMethod::kAgs: s.total = s.u1; break;
-      case UtilityMethod::kOurs: s.total = s.u1 + s.u2; break;
-    }
-    ++decision.num_eligible;
-    if (decision.chosen_index < 0 || Better(s, decision.scores[decision.chosen_index])) {
-      decision.chosen_index = static_cast<int>(i);
-    }
+    s.total = kMinusInf;
+    if (s.eligible()) Consider(i, &decision);
+  }
+  // The length limit steers the choice and never ends exploration: frontiers past it are
+  // chosen from only when no nearer one is eligible.
+  const bool only_far_ones = decision.num_eligible == 0;
+  for (std::size_t i = 0; i < frontiers.size(); ++i) {
+    if (!only_far_ones || decision.scores[i].eligibility != Eligibility::kTooFar) continue;
+    decision.scores[i].eligibility = Eligibility::kEligible;
+    Consider(i, &decision);
   }
   if (decision.has_goal()) decision.scores[decision.chosen_index].chosen = true;
   if (incremental) decision.cached_solves = incremental->cached_solves();
   return decision;
+}
+
+void GoalSelector::Consider(std::size_t index, GoalDecision* decision) const {
+  FrontierScore& s = decision->scores[index];
+  switch (options_.method) {
+    case UtilityMethod::kFd: s.total = -s.path_length_m; break;
+    case UtilityMethod::kAgs: s.total = s.u1; break;
+    case UtilityMethod::kOurs: s.total = s.u1 + s.u2; break;
+  }
+  ++decision->num_eligible;
+  if (decision->chosen_index < 0 || Better(s, decision->scores[decision->chosen_index])) {
+    decision->chosen_index = static_cast<int>(index);
+  }
 }
 
 std::vector<std::size_t> GoalSelector::PointsToRetry(const GoalDecision& decision,

@@ -6,7 +6,8 @@
 //   eligibility  ineligible (total = -inf) when the target is closer than
 //                min_distance_m to the robot, unreachable in the costmap,
 //                within blacklist_radius_m of a reached or failed goal, or its
-//                planned path is longer than max_path_length_m (0: no limit)
+//                planned path is longer than max_path_length_m (0: no limit) while
+//                a frontier nearer than that is eligible
 //   fd           total = -path length: the nearest eligible frontier by path
 //   ags          total = U1 (spanning trees of the graph extended by the
 //                hallucinated path to the frontier)
@@ -56,7 +57,8 @@ struct GoalSelectorOptions {
   PathEntropyOptions path_entropy;  // λ and the unit of d in γ
   double min_distance_m =
       0.25;  // targets closer to the robot are ineligible (docs/architecture.md §5)
-  double max_path_length_m = 0.0;   // longer planned paths are ineligible; 0 = no limit
+  // Longer planned paths are ineligible while a shorter one is eligible; 0 = no limit.
+  double max_path_length_m = 0.0;
   double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
   // A target the planner cannot enter (e.g. in the inflated zone) is planned
   // to the reachable cell nearest to it within this distance, as the navigator does.
@@ -130,6 +132,9 @@ class GoalSelector {
   const GoalSelectorOptions& options() const { return options_; }
 
  private:
+  // Gives an eligible score its method's total and chooses it if it beats the chosen one.
+  void Consider(std::size_t index, GoalDecision* decision) const;
+
   GoalSelectorOptions options_;
   GlobalPlanner planner_;
   // Reused across decisions: no allocation per decision on a same-size map.

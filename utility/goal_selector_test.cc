@@ -142,6 +142,16 @@ TEST(GoalSelector, EligibilityReasons) {
     EXPECT_FALSE(d.scores[i].chosen) << i;
   }
 
+  // Only frontiers past the limit: the limit does not end exploration, the best of them is chosen.
+  const GoalDecision only_far =
+      Decide(options, WalledRoom(), kRoomRobot, {MakeFrontier(1, kA), MakeFrontier(3, kTooClose)});
+  EXPECT_EQ(only_far.scores[0].eligibility, Eligibility::kEligible);
+  EXPECT_EQ(only_far.scores[1].eligibility, Eligibility::kTooClose);
+  EXPECT_EQ(only_far.num_eligible, 1);
+  ASSERT_TRUE(only_far.has_goal());
+  EXPECT_EQ(only_far.chosen().frontier_id, 1);
+  EXPECT_EQ(only_far.chosen().total, -only_far.chosen().path_length_m);
+
   // A snap of 0.35 m reaches the wall target's traversable neighbour (around the wall, like A).
   options.goal_snap_m = 0.35;
   options.max_path_length_m = 0.0;  // no limit
