@@ -53,6 +53,7 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   c.ReadInRange("progress_margin_m", &o->progress_margin_m, 0.0, 100.0);
   c.ReadInRange("dwa_failures_for_recovery", &o->dwa_failures_for_recovery, 1, 10000);
   c.ReadInRange("max_recoveries", &o->max_recoveries, 0, 1000);
+  c.ReadInRange("squeeze_margin_m", &o->squeeze_margin_m, 0.0, 10.0);
   if (o->align_done_rad > o->align_start_rad)
     c.Fail("align_done_rad", "must not exceed align_start_rad");
 
@@ -118,6 +119,11 @@ NavOptions LoadNavOptions(const ConfigReader& nav, const RobotOptions& robot) {
   Validate(nav, nav.KeyPath("global_planner"), options.global_planner);
   Validate(nav, nav.KeyPath("local_obstacles"), options.local_obstacles);
   Validate(nav, nav.KeyPath("dwa"), options.dwa);
+
+  if (options.navigator.squeeze_margin_m > robot.clearance_margin_m) {
+    nav.Fail("squeeze_margin_m",
+             "must not exceed robot.clearance_margin_m = " + Number(robot.clearance_margin_m));
+  }
 
   // Rollouts leaving the local window read as blocked: the window must hold the longest one.
   const double reach_m = options.dwa.max_linear_mps * options.dwa.horizon_s + robot.radius_m +

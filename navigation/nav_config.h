@@ -49,6 +49,10 @@ struct NavigatorOptions {
   double progress_margin_m = 0.25;    // progress = this much net advance along the paths
   int dwa_failures_for_recovery = 3;  // consecutive cycles without an admissible trajectory
   int max_recoveries = 3;             // per goal; one more need for recovery fails the goal
+  // Once a goal has needed a recovery (no progress, no trajectory), the DWA keeps this margin
+  // instead of the robot's clearance margin for the rest of the goal: a gap the robot drove
+  // into, or the planner routes through, that a newer scan narrows by a cell can be left.
+  double squeeze_margin_m = 0.02;
   RecoveryOptions recovery;
 };
 

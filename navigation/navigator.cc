@@ -41,8 +41,19 @@ const char* RecoveryPhaseName(RecoveryPhase phase) {
   return "?";
 }
 
+namespace {
+DwaOptions SqueezeDwaOptions(const NavOptions& options) {
+  DwaOptions squeeze = options.dwa;
+  squeeze.safety_margin_m = std::min(squeeze.safety_margin_m, options.navigator.squeeze_margin_m);
+  return squeeze;
+}
+}  // namespace
+
 Navigator::Navigator(NavOptions options)
-    : options_(std::move(options)), planner_(options_.global_planner), dwa_(options_.dwa) {}
+    : options_(std::move(options)),
+      planner_(options_.global_planner),
+      dwa_(options_.dwa),
+      squeeze_dwa_(SqueezeDwaOptions(options_)) {}
 
 void Navigator::SetMap(const OccupancyGrid& map) {
   map_ = map;
@@ -146,6 +157,7 @@ void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
     if (Distance(goal_m, status_.goal_m) < 1e-6) return;
   } else {
     status_.recoveries_used = 0;
+    squeezing_ = false;
   }
   status_.goal_id = goal_id;
   status_.goal_m = goal_m;
@@ -418,6 +430,7 @@ void Navigator::StartRecovery(int64_t utime, const std::string& reason,
   }
   ++status_.recoveries_used;
   aligning_ = false;
+  squeezing_ = squeezing_ || !look;
   status_.recovery = RecoveryPhase::kRotate;
   recovery_reason_ = reason;
   status_.detail = "recovering: " + reason;
@@ -562,7 +575,8 @@ NavOutput Navigator::Step(int64_t utime) {
     } else if (const auto turn = Align(utime, obstacles)) {
       return finish(*turn);
     } else {
-      last_dwa_ = dwa_.Plan(pose_->pose, last_velocity_, PathAhead(), obstacles);
+      last_dwa_ = (squeezing_ ? squeeze_dwa_ : dwa_)
+                      .Plan(pose_->pose, last_velocity_, PathAhead(), obstacles);
       const DwaResult& result = last_dwa_;
       if (result.found) {
         dwa_failures_ = 0;

@@ -15,7 +15,9 @@
 //                |   recovery: rotate (to the heading that backing off
 //                |   gains most clearance from, preferring the path's
 //                |   direction), back off (reverse slowly while the rear is
-//                |   clear), replan, resume; once max_recoveries are spent --> failed
+//                |   clear), replan, resume; once max_recoveries are spent --> failed;
+//                |   after such a recovery the DWA keeps squeeze_margin_m, not the robot's
+//                |   clearance margin, for the rest of the goal
 //   Cancel -> idle
 //
 // Global plans (A*) are redone every replan_period_s and at once when a
@@ -153,6 +155,7 @@ class Navigator {
   int64_t goal_distances_utime_ = 0;
   std::size_t field_first_plan_settled_ = 0;  // cells the first plan on the field settled
   DwaPlanner dwa_;
+  DwaPlanner squeeze_dwa_;  // the DWA with navigator.squeeze_margin_m
 
   OccupancyGrid map_;
   Costmap costmap_;
@@ -190,7 +193,8 @@ class Navigator {
   double last_remaining_m_ = 0.0;  // on the current path at the previous step; NaN after a plan
   int64_t last_progress_utime_ = 0;
   int dwa_failures_ = 0;
-  bool aligning_ = false;  // turning in place toward the path before the DWA drives
+  bool aligning_ = false;   // turning in place toward the path before the DWA drives
+  bool squeezing_ = false;  // this goal needed a recovery: squeeze_dwa_ drives
   DwaVelocity last_velocity_;
   DwaResult last_dwa_;
 

@@ -599,6 +599,41 @@ TEST(Navigator, ScanReturnsThatKeepTheWayShutFailTheGoalAfterTheRecoveries) {
   EXPECT_THAT(navigator.status().detail, HasSubstr("no path"));
 }
 
+// A doorway the map shows 1 m wide; the scan shows clutter narrowing it to 0.5 m from both
+// sides, which the planner does not see (scan_mark_range_m = 0). With the full margin the DWA
+// may pass only on the doorway's centre line; after a recovery it squeezes through.
+double DriveThroughANarrowedDoor(double squeeze_margin_m, NavState* end_state) {
+  NavOptions options;
+  options.navigator.scan_mark_range_m = 0.0;
+  options.navigator.squeeze_margin_m = squeeze_margin_m;
+  Navigator navigator{options};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/false));  // the door: y 7 to 8
+  std::vector<Point2d> clutter;  // rows 140-144 and 155-159 of the wall's three columns
+  for (int col = 99; col < 102; ++col) {
+    for (int row : {140, 141, 142, 143, 144, 155, 156, 157, 158, 159}) {
+      clutter.push_back({(col + 0.5) * 0.05, (row + 0.5) * 0.05});
+    }
+  }
+  Drive drive{{2.0, 7.5, 0.0}};
+  navigator.SetGoal(1, {8.0, 7.5}, 0);
+  const double min_distance_m = DriveSeeing(navigator, drive, clutter, 120.0);
+  *end_state = navigator.status().state;
+  return min_distance_m;
+}
+
+TEST(Navigator, AfterARecoveryTheDwaSqueezesThroughAGapNarrowerThanItsMargin) {
+  NavState state = NavState::kActive;
+  const double min_distance_m =
+      DriveThroughANarrowedDoor(NavOptions{}.navigator.squeeze_margin_m, &state);
+  EXPECT_EQ(state, NavState::kReached);
+  // The clutter's cell edges, never the robot's body, are as close as it came.
+  EXPECT_GT(min_distance_m, NavOptions{}.dwa.robot_radius_m + 0.025);
+
+  // Without the squeeze (the full margin after recoveries too) the goal fails at the door.
+  DriveThroughANarrowedDoor(NavOptions{}.dwa.safety_margin_m, &state);
+  EXPECT_EQ(state, NavState::kFailed);
+}
+
 TEST(Navigator, AGoalANewlySeenObstacleSwallowsIsReachedWhereTheRobotSeesIt) {
   // A frontier target the map shows free, 0.06 m in front of a crate that only the scan shows:
   // the robot cannot stand there, nor within 0.15 m; it stops at a cell that sees the goal.
