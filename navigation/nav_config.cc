@@ -54,8 +54,6 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   c.ReadInRange("dwa_failures_for_recovery", &o->dwa_failures_for_recovery, 1, 10000);
   c.ReadInRange("max_recoveries", &o->max_recoveries, 0, 1000);
   c.ReadInRange("squeeze_margin_m", &o->squeeze_margin_m, 0.0, 10.0);
-  c.ReadInRange("route_flips_to_fail", &o->route_flips_to_fail, 2, 1000);
-  c.ReadInRange("route_flip_window_s", &o->route_flip_window_s, 1.0, 3600.0);
   if (o->align_done_rad > o->align_start_rad)
     c.Fail("align_done_rad", "must not exceed align_start_rad");
 

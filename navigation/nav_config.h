@@ -53,11 +53,6 @@ struct NavigatorOptions {
   // instead of the robot's clearance margin for the rest of the goal: a gap the robot drove
   // into, or the planner routes through, that a newer scan narrows by a cell can be left.
   double squeeze_margin_m = 0.02;
-  // A plan that switches between a short and a much longer route this many times, alternately,
-  // within route_flip_window_s fails the goal: a narrow place that scan returns shut only from
-  // near it sends the robot back and forth, each leg advancing along its own path.
-  int route_flips_to_fail = 4;
-  double route_flip_window_s = 30.0;
   RecoveryOptions recovery;
 };
 

@@ -33,8 +33,6 @@ TEST(NavConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(shipped.navigator.progress_timeout_s, defaults.navigator.progress_timeout_s);
   EXPECT_EQ(shipped.navigator.max_recoveries, defaults.navigator.max_recoveries);
   EXPECT_DOUBLE_EQ(shipped.navigator.squeeze_margin_m, defaults.navigator.squeeze_margin_m);
-  EXPECT_EQ(shipped.navigator.route_flips_to_fail, defaults.navigator.route_flips_to_fail);
-  EXPECT_DOUBLE_EQ(shipped.navigator.route_flip_window_s, defaults.navigator.route_flip_window_s);
   EXPECT_DOUBLE_EQ(shipped.navigator.recovery.back_off_distance_m,
                    defaults.navigator.recovery.back_off_distance_m);
   EXPECT_DOUBLE_EQ(shipped.costmap.robot_radius_m, defaults.costmap.robot_radius_m);
@@ -128,8 +126,6 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
               AllOf(HasSubstr("nav.align_done_rad"), HasSubstr("align_start_rad")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {min_linear_mps: 0.6}\n"),
               AllOf(HasSubstr("nav.dwa.min_linear_mps"), HasSubstr("robot.max_linear_mps")));
-  EXPECT_THAT(ErrorOf("nav:\n  route_flips_to_fail: 1\n"),
-              AllOf(HasSubstr("nav.route_flips_to_fail"), HasSubstr("'1'")));
   EXPECT_THAT(ErrorOf("nav:\n  squeeze_margin_m: 0.08\n"),
               AllOf(HasSubstr("nav.squeeze_margin_m"), HasSubstr("robot.clearance_margin_m")));
   // Cross-section: the local window must hold the DWA's longest rollout.

@@ -158,8 +158,6 @@ void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
   } else {
     status_.recoveries_used = 0;
     squeezing_ = false;
-    route_flip_utimes_.clear();
-    last_route_flip_ = 0;
   }
   status_.goal_id = goal_id;
   status_.goal_m = goal_m;
@@ -339,25 +337,6 @@ void Navigator::AdvancePathIndex() {
     }
   }
   path_index_ = best;
-}
-
-bool Navigator::RoutesFlipping(int64_t utime, double previous_remaining_m) {
-  const NavigatorOptions& n = options_.navigator;
-  if (previous_remaining_m < 0.0) return false;  // no plan before this one
-  // Another route: half as long again plus a metre, or the other way round.
-  const double now_m = path_length_m_;
-  const int flip = now_m > 1.5 * previous_remaining_m + 1.0   ? +1
-                   : previous_remaining_m > 1.5 * now_m + 1.0 ? -1
-                                                              : 0;
-  if (flip == 0 || flip == last_route_flip_) return false;
-  last_route_flip_ = flip;
-  flip_short_m_ = std::min(now_m, previous_remaining_m);
-  flip_long_m_ = std::max(now_m, previous_remaining_m);
-  route_flip_utimes_.push_back(utime);
-  while (utime - route_flip_utimes_.front() > Micros(n.route_flip_window_s)) {
-    route_flip_utimes_.pop_front();
-  }
-  return static_cast<int>(route_flip_utimes_.size()) >= n.route_flips_to_fail;
 }
 
 double Navigator::DistanceRemainingM() const {
@@ -563,16 +542,8 @@ NavOutput Navigator::Step(int64_t utime) {
   if (may_plan &&
       (replan_due_ || !has_path_ || utime - last_plan_utime_ >= Micros(n.replan_period_s))) {
     out.replanned = true;
-    const double previous_remaining_m = DistanceRemainingM();
     planned = Replan(utime);
     if (!planned && !blocked_by_marks_) return finish({});
-    if (planned && RoutesFlipping(utime, previous_remaining_m)) {
-      Stop(NavState::kFailed,
-           Format("the plan flipped %d times in %g s between routes of %.1f "
-                  "and %.1f m",
-                  n.route_flips_to_fail, n.route_flip_window_s, flip_short_m_, flip_long_m_));
-      return finish({});
-    }
     if (planned && looking_) EndRecovery(utime, {});
   }
   AdvancePathIndex();

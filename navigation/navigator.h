@@ -18,8 +18,6 @@
 //                |   clear), replan, resume; once max_recoveries are spent --> failed;
 //                |   after such a recovery the DWA keeps squeeze_margin_m, not the robot's
 //                |   clearance margin, for the rest of the goal
-//                |--(plans switching between a short and a much longer route
-//                |   route_flips_to_fail times within route_flip_window_s)--> failed
 //   Cancel -> idle
 //
 // Global plans (A*) are redone every replan_period_s and at once when a
@@ -197,15 +195,6 @@ class Navigator {
   int dwa_failures_ = 0;
   bool aligning_ = false;   // turning in place toward the path before the DWA drives
   bool squeezing_ = false;  // this goal needed a recovery: squeeze_dwa_ drives
-  // Route flips of this goal (see NavigatorOptions::route_flips_to_fail): when they happened,
-  // the direction of the last (+1: to a longer route, -1: to a shorter one), the lengths seen.
-  std::deque<int64_t> route_flip_utimes_;
-  int last_route_flip_ = 0;
-  double flip_short_m_ = 0.0;
-  double flip_long_m_ = 0.0;
-  // Notes a new plan against the distance the previous one had left; true once the routes
-  // have flipped route_flips_to_fail times within route_flip_window_s.
-  bool RoutesFlipping(int64_t utime, double previous_remaining_m);
   DwaVelocity last_velocity_;
   DwaResult last_dwa_;
 

@@ -308,37 +308,6 @@ TEST(Navigator, PlansFlippingBetweenRoutesAreNotProgress) {
   EXPECT_NEAR(recovery_utime * 1e-6, 2.1, 0.15);
 }
 
-// The robot drives between two routes as the south gap opens and shuts (the door of a real
-// building that scan returns shut only from near it): the goal fails after route_flips_to_fail
-// alternate switches instead of running on while each leg counts as progress.
-TEST(Navigator, PlansFlippingBetweenRoutesAgainAndAgainFailTheGoal) {
-  NavOptions options;
-  options.navigator.progress_timeout_s = 60.0;  // the progress check alone would not end it soon
-  auto run = [&](bool keep_flipping) {
-    Navigator navigator{options};
-    navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/true));
-    Drive drive{{2.0, 2.5, 0.0}};
-    navigator.SetGoal(1, {8.0, 2.5}, 0);
-    bool gap_open = true;
-    while (drive.utime < 30'000'000 && navigator.status().state == NavState::kActive) {
-      const bool whole_second = drive.utime > 0 && drive.utime % 1'000'000 == 0;
-      if (whole_second && (keep_flipping || gap_open)) {
-        gap_open = !gap_open;
-        navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/gap_open));
-      }
-      drive.Run(navigator, 0.1);
-    }
-    return navigator.status();
-  };
-  const NavStatus flipping = run(/*keep_flipping=*/true);  // the gap opens and shuts every second
-  EXPECT_EQ(flipping.state, NavState::kFailed);
-  EXPECT_THAT(flipping.detail, HasSubstr("flipped 4 times"));
-
-  // Shut once and for good (a door found closed): one switch to the long route, reached.
-  const NavStatus detour = run(/*keep_flipping=*/false);
-  EXPECT_EQ(detour.state, NavState::kReached) << detour.detail;
-}
-
 TEST(Navigator, BackOffStopsWhenTheRearIsBlocked) {
   NavOptions options;
   options.navigator.progress_timeout_s = 1.0;
