@@ -45,6 +45,9 @@ void LoadNavigator(const ConfigReader& c, NavigatorOptions* o) {
   c.ReadInRange("replan_period_s", &o->replan_period_s, 0.05, 3600.0);
   c.ReadInRange("path_lookahead_m", &o->path_lookahead_m, 0.1, 100.0);
   c.ReadInRange("scan_mark_range_m", &o->scan_mark_range_m, 0.0, 100.0);
+  c.ReadInRange("scan_mark_clear_margin_m", &o->scan_mark_clear_margin_m, 0.01, 10.0);
+  c.ReadInRange("detour_factor", &o->detour_factor, 0.0, 1000.0);
+  c.ReadInRange("detour_slack_m", &o->detour_slack_m, 0.0, 10000.0);
   c.ReadInRange("align_start_rad", &o->align_start_rad, 0.0, 4.0);
   c.ReadInRange("align_done_rad", &o->align_done_rad, 0.01, M_PI);
   c.ReadInRange("align_speed_radps", &o->align_speed_radps, 0.05, 20.0);

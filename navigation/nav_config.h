@@ -36,8 +36,15 @@ struct NavigatorOptions {
   double path_lookahead_m = 2.5;  // how much of the global path the DWA follows
   // Scan end points this close to the robot are marked as obstacles in the
   // costmap the global planner uses, so replanning routes around what the map
-  // has not caught up with (0 = plan on the map alone).
+  // has not caught up with (0 = plan on the map alone). A mark lasts as long as the goal,
+  // until the map holds the cell as an obstacle or a later beam returns from more than
+  // scan_mark_clear_margin_m beyond it: the plan must not change with the robot's distance.
   double scan_mark_range_m = 3.0;
+  double scan_mark_clear_margin_m = 0.15;  // above the lidar's range noise where marks lie
+  // Scan marks that shut the planned way fail the goal when the trip (driven + the way round)
+  // is longer than detour_factor x the goal's first plan + detour_slack_m (0: never).
+  double detour_factor = 3.0;
+  double detour_slack_m = 10.0;
   // Heading error to the path beyond align_start_rad: stop and turn in place
   // until within align_done_rad before the DWA drives again (the DWA alone
   // turns around in wide circles when speed scores well).

@@ -33,6 +33,8 @@ TEST(NavConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(shipped.navigator.progress_timeout_s, defaults.navigator.progress_timeout_s);
   EXPECT_EQ(shipped.navigator.max_recoveries, defaults.navigator.max_recoveries);
   EXPECT_DOUBLE_EQ(shipped.navigator.squeeze_margin_m, defaults.navigator.squeeze_margin_m);
+  EXPECT_DOUBLE_EQ(shipped.navigator.scan_mark_clear_margin_m,
+                   defaults.navigator.scan_mark_clear_margin_m);
   EXPECT_DOUBLE_EQ(shipped.navigator.recovery.back_off_distance_m,
                    defaults.navigator.recovery.back_off_distance_m);
   EXPECT_DOUBLE_EQ(shipped.costmap.robot_radius_m, defaults.costmap.robot_radius_m);
@@ -126,6 +128,8 @@ TEST(NavConfig, BadValuesNameFileKeyAndValue) {
               AllOf(HasSubstr("nav.align_done_rad"), HasSubstr("align_start_rad")));
   EXPECT_THAT(ErrorOf("nav:\n  dwa: {min_linear_mps: 0.6}\n"),
               AllOf(HasSubstr("nav.dwa.min_linear_mps"), HasSubstr("robot.max_linear_mps")));
+  EXPECT_THAT(ErrorOf("nav:\n  scan_mark_clear_margin_m: 0\n"),
+              AllOf(HasSubstr("nav.scan_mark_clear_margin_m"), HasSubstr("'0'")));
   EXPECT_THAT(ErrorOf("nav:\n  squeeze_margin_m: 0.08\n"),
               AllOf(HasSubstr("nav.squeeze_margin_m"), HasSubstr("robot.clearance_margin_m")));
   // Cross-section: the local window must hold the DWA's longest rollout.

@@ -64,22 +64,56 @@ void Navigator::SetMap(const OccupancyGrid& map) {
 }
 
 void Navigator::UpdateScanMarks() {
-  std::vector<std::size_t> cells;
   const double range_m = options_.navigator.scan_mark_range_m;
-  if (range_m > 0.0 && pose_) {
-    const Point2d robot = Position(pose_->pose);
-    const int threshold = options_.costmap.occupied_threshold;
+  std::vector<Point2d> marks;
+  if (range_m <= 0.0 || !pose_) {
+    kept_marks_m_.clear();
+  } else {
+    if (marks_cleared_utime_ != scan_utime_) ClearMarksSeenThrough();
     // Every return the map does not already hold as an obstacle, as the DWA's LocalObstacles
     // takes them: a wall's returns a cell off its mapped face narrow a gap for the DWA, so
     // they must for the planner too, or it plans through gaps the DWA will not drive.
+    const Point2d robot = Position(pose_->pose);
+    // Those that shut the path ahead (a chair in a door, a gap narrower than mapped) are kept
+    // for the goal, unless seen through or mapped: the way they shut must stay shut when the
+    // robot turns away, or the plan flips back to it. The rest matter only while near: kept,
+    // noisy returns would thicken every obstacle by their spread and shut real gaps.
+    const double shut_m = options_.costmap.robot_radius_m + options_.costmap.clearance_margin_m +
+                          0.5 * map_.resolution_m();
+    std::vector<Point2d> ahead;
+    for (std::size_t i = path_index_; has_path_ && i < path_m_.size(); ++i) {
+      if (Distance(path_m_[i], robot) <= range_m + shut_m) ahead.push_back(path_m_[i]);
+    }
     for (const Point2d& p : scan_points_m_) {
+      if (Distance(p, robot) > range_m) continue;
+      marks.push_back(p);
+      const bool shuts_path = std::any_of(
+          ahead.begin(), ahead.end(), [&](const Point2d& q) { return Distance(p, q) <= shut_m; });
+      marks_shut_path_ = marks_shut_path_ || shuts_path;
+      if (shuts_path) kept_marks_m_.push_back(p);
+    }
+  }
+  marks.insert(marks.end(), kept_marks_m_.begin(), kept_marks_m_.end());
+  // One mark per cell, none the map holds as an obstacle (nor off it).
+  const int threshold = options_.costmap.occupied_threshold;
+  auto cells_of = [&](const std::vector<Point2d>& points) {
+    std::vector<std::size_t> cells;
+    for (const Point2d& p : points) {
       const CellIndex cell = map_.WorldToCell(p);
-      if (!map_.Contains(cell) || Distance(p, robot) > range_m) continue;
-      if (map_.at(cell) < threshold) cells.push_back(map_.LinearIndex(cell));
+      if (map_.Contains(cell) && map_.at(cell) < threshold) cells.push_back(map_.LinearIndex(cell));
     }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    return cells;
+  };
+  const std::vector<std::size_t> kept_cells = cells_of(kept_marks_m_);
+  kept_marks_m_.clear();
+  const int width = map_.width_cells();
+  for (std::size_t index : kept_cells) {
+    const int row = static_cast<int>(index / width);
+    kept_marks_m_.push_back(map_.CellCenter({static_cast<int>(index) - row * width, row}));
   }
+  std::vector<std::size_t> cells = cells_of(marks);
   // Update only when the marks change (or the map did).
   if (costmap_current_ && cells == marked_cells_) return;
   costmap_current_ = true;
@@ -91,6 +125,70 @@ void Navigator::UpdateScanMarks() {
   // Incremental: recomputes only near the cells that changed since the last
   // costmap (new map cells or marks); costs are those of a fresh Costmap.
   costmap_.Update(marked, options_.costmap);
+}
+
+bool Navigator::OnAMappedObstaclesFace(CellIndex cell) const {
+  const int threshold = options_.costmap.occupied_threshold;
+  for (int dr = -1; dr <= 1; ++dr) {
+    for (int dc = -1; dc <= 1; ++dc) {
+      if (map_.ValueOr({cell.col + dc, cell.row + dr}, 0) >= threshold) return true;
+    }
+  }
+  return false;
+}
+
+void Navigator::ClearMarksSeenThrough() {
+  marks_cleared_utime_ = scan_utime_;
+  const int num_beams = static_cast<int>(scan_beam_points_.size());
+  if (num_beams == 0 || scan_angle_increment_rad_ <= 0.0) return;
+  const double half_cell_m = 0.5 * map_.resolution_m();
+  const double margin_m = options_.navigator.scan_mark_clear_margin_m;
+  const int beams_per_turn =
+      std::max(num_beams, static_cast<int>(std::lround(2.0 * M_PI / scan_angle_increment_rad_)));
+  // A beam passing within half a cell of the mark's centre, returning beyond the margin.
+  auto seen_through = [&](const Point2d& mark, int beam) {
+    if (beam < 0 || beam >= num_beams || scan_beam_points_[beam] < 0) return false;
+    const Point2d& origin = scan_origins_m_[scan_beam_points_[beam]];
+    const Point2d& end = scan_points_m_[scan_beam_points_[beam]];
+    const double length_m = Distance(origin, end);
+    if (length_m <= 0.0) return false;
+    const double ux = (end.x_m - origin.x_m) / length_m, uy = (end.y_m - origin.y_m) / length_m;
+    const double dx = mark.x_m - origin.x_m, dy = mark.y_m - origin.y_m;
+    const double along_m = dx * ux + dy * uy;
+    return along_m > 0.0 && along_m + margin_m < length_m &&
+           std::abs(dx * uy - dy * ux) <= half_cell_m;
+  };
+  // A cell the scan still returns from keeps its mark, whatever beams pass beside the return;
+  // so does one on a mapped obstacle's face (the beams that pass it graze the face: the return
+  // beyond it is the same obstacle's).
+  std::vector<std::size_t> returning;
+  for (const Point2d& p : scan_points_m_) {
+    const CellIndex cell = map_.WorldToCell(p);
+    if (map_.Contains(cell)) returning.push_back(map_.LinearIndex(cell));
+  }
+  std::sort(returning.begin(), returning.end());
+  std::vector<Point2d> kept;
+  kept.reserve(kept_marks_m_.size());
+  for (const Point2d& mark : kept_marks_m_) {
+    const CellIndex cell = map_.WorldToCell(mark);
+    if (!map_.Contains(cell) || OnAMappedObstaclesFace(cell) ||
+        std::binary_search(returning.begin(), returning.end(), map_.LinearIndex(cell))) {
+      kept.push_back(mark);
+      continue;
+    }
+    const double bearing_rad =
+        WrapAngle(std::atan2(mark.y_m - scan_sensor_m_.y_m, mark.x_m - scan_sensor_m_.x_m) -
+                  scan_sensor_m_.yaw_rad - scan_angle_min_rad_);
+    const double from_first = bearing_rad < 0.0 ? bearing_rad + 2.0 * M_PI : bearing_rad;
+    const int beam = static_cast<int>(std::lround(from_first / scan_angle_increment_rad_));
+    bool cleared = false;
+    for (int b : {beam - 1, beam, beam + 1}) {
+      // Beam indices go round a full turn (a 360° scan's first beam follows its last).
+      cleared = cleared || seen_through(mark, (b + beams_per_turn) % beams_per_turn);
+    }
+    if (!cleared) kept.push_back(mark);
+  }
+  kept_marks_m_ = std::move(kept);
 }
 
 PlanningObstacles Navigator::planning_obstacles() const {
@@ -106,6 +204,9 @@ PlanningObstacles Navigator::planning_obstacles() const {
 }
 
 void Navigator::SetPose(const StampedPose& pose) {
+  if (pose_ && status_.state == NavState::kActive) {
+    goal_driven_m_ += Distance(Position(pose_->pose), Position(pose.pose));
+  }
   pose_ = pose;
   if (!recent_poses_.empty() && pose.utime <= recent_poses_.back().utime) recent_poses_.clear();
   recent_poses_.push_back(pose);
@@ -132,22 +233,31 @@ Pose2d Navigator::PoseAt(int64_t utime) const {
 
 void Navigator::SetScan(const LidarScan& scan) {
   scan_points_m_.clear();
+  scan_origins_m_.clear();
+  scan_beam_points_.assign(scan.range_m.size(), -1);
   scan_utime_ = scan.utime;
-  if (!pose_) return;
+  if (!pose_) {
+    scan_beam_points_.clear();
+    return;
+  }
   // An instantaneous scan is placed at the latest pose; a swept one beam by beam.
   const Pose2d sensor_in_map = pose_->pose.Compose(scan.sensor_pose);
+  scan_sensor_m_ = sensor_in_map;
+  scan_angle_min_rad_ = scan.angle_min_rad;
+  scan_angle_increment_rad_ = scan.angle_increment_rad;
   for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
     if (!scan.IsValidReturn(i)) continue;
     const double angle_rad = scan.BeamAngle(i);
     const double range_m = scan.range_m[i];
     const Point2d in_sensor{range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)};
-    if (scan.beam_time_s.empty()) {
-      scan_points_m_.push_back(sensor_in_map.Transform(in_sensor));
-    } else {
-      const int64_t beam_utime =
-          scan.utime + std::llround(scan.beam_time_s[i] * kMicrosecondsPerSecond);
-      scan_points_m_.push_back((PoseAt(beam_utime) * scan.sensor_pose).Transform(in_sensor));
-    }
+    const Pose2d sensor =
+        scan.beam_time_s.empty()
+            ? sensor_in_map
+            : PoseAt(scan.utime + std::llround(scan.beam_time_s[i] * kMicrosecondsPerSecond)) *
+                  scan.sensor_pose;
+    scan_beam_points_[i] = static_cast<int>(scan_points_m_.size());
+    scan_points_m_.push_back(sensor.Transform(in_sensor));
+    scan_origins_m_.push_back(Position(sensor));
   }
 }
 
@@ -158,6 +268,9 @@ void Navigator::SetGoal(int64_t goal_id, Point2d goal_m, int64_t utime) {
   } else {
     status_.recoveries_used = 0;
     squeezing_ = false;
+    kept_marks_m_.clear();  // a new goal starts from the latest scan's marks
+    first_path_m_ = -1.0;
+    goal_driven_m_ = 0.0;
   }
   status_.goal_id = goal_id;
   status_.goal_m = goal_m;
@@ -203,6 +316,7 @@ void Navigator::Stop(NavState state, const std::string& detail) {
 
 void Navigator::RestartClock(int64_t utime) {
   pose_.reset();
+  kept_marks_m_.clear();
   replan_due_ = true;
   phase_start_utime_ = utime;
   ResetProgress(utime);
@@ -229,7 +343,28 @@ bool Navigator::Replan(int64_t utime) {
   replan_due_ = false;
   blocked_by_marks_ = false;
   last_plan_utime_ = utime;
+  marks_shut_path_ = false;
   if (utime - scan_utime_ <= Micros(options_.navigator.pose_timeout_s)) UpdateScanMarks();
+  if (!PlanToGoal(utime)) return false;
+  if (first_path_m_ < 0.0) first_path_m_ = path_length_m_;
+  // Returns the map does not hold shut the way it planned, and the trip (driven + the way
+  // round) has grown far past the goal's first plan: give the goal up (the utility, which plans
+  // with the marks, chooses again) rather than tour the building finding one way after another
+  // shut as the robot arrives at each.
+  const NavigatorOptions& n = options_.navigator;
+  const double trip_m = goal_driven_m_ + path_length_m_;
+  if (marks_shut_path_ && n.detour_factor > 0.0 &&
+      trip_m > n.detour_factor * first_path_m_ + n.detour_slack_m) {
+    Stop(NavState::kFailed,
+         Format("scan returns the map does not hold shut the way: %.1f m driven and %.1f m "
+                "round, against a first plan of %.1f m",
+                goal_driven_m_, path_length_m_, first_path_m_));
+    return false;
+  }
+  return true;
+}
+
+bool Navigator::PlanToGoal(int64_t utime) {
   const Point2d goal = status_.goal_m;
   const Point2d robot = Position(pose_->pose);
   const CellIndex goal_cell = costmap_.WorldToCell(goal);
@@ -436,6 +571,8 @@ void Navigator::StartRecovery(int64_t utime, const std::string& reason,
   status_.detail = "recovering: " + reason;
   phase_start_utime_ = utime;
   looking_ = look;
+  // A look judges the way by what it sees now: the kept marks shut it, so they start afresh.
+  if (look) kept_marks_m_.clear();
   rotate_target_yaw_rad_ =
       look ? WrapAngle(pose_->pose.yaw_rad + M_PI - 0.05) : ChooseBackOffHeading(obstacles);
 }

@@ -82,8 +82,9 @@ class Navigator {
   void SetMap(const OccupancyGrid& map);
   // The robot in "map".
   void SetPose(const StampedPose& pose);
-  // Keeps the scan's valid end points in "map", placed with the latest pose;
-  // the next replan marks the near ones into its costmap.
+  // Keeps the scan's valid end points (and the sensor at each) in "map", placed with the
+  // latest pose; the next replan marks the near ones into its costmap and clears earlier
+  // marks its beams pass through.
   void SetScan(const LidarScan& scan);
   // A new goal id starts a new goal; the current id with another point moves
   // the goal (replan, recovery budget kept); the same id and point is a no-op.
@@ -119,8 +120,10 @@ class Navigator {
 
  private:
   void Stop(NavState state, const std::string& detail);
-  // false: no path; the state says unreachable, or blocked_by_marks_ is set (still active).
+  // false: no path; the state says unreachable or failed (a trip past scan marks too long),
+  // or blocked_by_marks_ is set (still active).
   bool Replan(int64_t utime);
+  bool PlanToGoal(int64_t utime);  // Replan's search, after the marks are up to date
   // Whether the goal could be reached on the map alone, without the scan marks.
   bool ReachableWithoutMarks(CellIndex robot_cell, CellIndex goal_cell);
   bool PlanTo(CellIndex target_cell, int64_t utime);  // A* to the cell; false: no path
@@ -132,8 +135,14 @@ class Navigator {
   double PathHeadingRad() const;           // direction of the path ahead from the robot
   void ClearPath();
   // Marks the scan points within scan_mark_range_m that do not fall on a mapped
-  // obstacle cell into the planning costmap (rebuilt only when the marks change).
+  // obstacle cell into the planning costmap (rebuilt only when the marks change). Those that
+  // shut the path ahead stay, for the goal, out of reach too, unless the map holds them or a
+  // scan sees through them.
   void UpdateScanMarks();
+  // Drops the kept marks a beam of the latest scan passes through to a return beyond them.
+  void ClearMarksSeenThrough();
+  // An 8-neighbour of `cell` is a mapped obstacle.
+  bool OnAMappedObstaclesFace(CellIndex cell) const;
   // `look`: a half turn in place that replans every cycle and ends as soon as a plan exists,
   // instead of rotating to back off.
   void StartRecovery(int64_t utime, const std::string& reason, const LocalObstacles& obstacles,
@@ -159,18 +168,29 @@ class Navigator {
 
   OccupancyGrid map_;
   Costmap costmap_;
-  std::vector<std::size_t> marked_cells_;  // map cells marked from the scan, sorted
+  // Marks that shut the path ahead, kept for the goal: cell centres, "map".
+  std::vector<Point2d> kept_marks_m_;
+  int64_t marks_cleared_utime_ = -1;       // the scan that last cleared them
+  std::vector<std::size_t> marked_cells_;  // the latest scan's within reach and the kept, sorted
   int64_t marks_utime_ = 0;                // the scan they came from
   int64_t marks_revision_ = 0;
   bool costmap_current_ = false;   // costmap_ = map_ + marked_cells_
   Costmap unmarked_costmap_;       // map_ alone, brought up to date only when asked
   bool blocked_by_marks_ = false;  // the last replan found the way shut by marks only
+  bool marks_shut_path_ = false;   // this replan's marks shut the path it had
+  double first_path_m_ = -1.0;     // the goal's first plan; -1 before it
+  double goal_driven_m_ = 0.0;     // how far the robot moved while the goal was active
   bool has_map_ = false;
   std::optional<StampedPose> pose_;
   // The last second of poses: a swept scan's beams are placed from the pose at each one's time.
   std::deque<StampedPose> recent_poses_;
   Pose2d PoseAt(int64_t utime) const;
   std::vector<Point2d> scan_points_m_;
+  std::vector<Point2d> scan_origins_m_;  // the sensor at each scan point's beam
+  std::vector<int> scan_beam_points_;    // per beam: its index in scan_points_m_, -1 if none
+  Pose2d scan_sensor_m_;                 // the sensor at the scan's time
+  double scan_angle_min_rad_ = 0.0;
+  double scan_angle_increment_rad_ = 0.0;
   int64_t scan_utime_ = -1;
 
   NavStatus status_;

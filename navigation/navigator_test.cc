@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace aslam {
@@ -466,21 +467,42 @@ TEST(Navigator, ScanPointsArePlacedInTheMapWithTheLatestPose) {
   EXPECT_NEAR(navigator.scan_points_m()[1].y_m, 0.0, 1e-9);
 }
 
-// A fine sweep from `pose` whose only returns are `points` (obstacles the map does not have).
-LidarScan SweepSeeing(const std::vector<Point2d>& points, const Pose2d& pose, int64_t utime) {
+// A fine sweep from `pose` in a room of `room_size_m` whose walls' inner faces are 0.15 m thick
+// (returns 0.05 m inside them, in mapped wall cells), with `points` (obstacles the map does not
+// have) as discs of half a cell that shadow the beams behind them.
+LidarScan SweepSeeing(const std::vector<Point2d>& points, const Pose2d& pose, int64_t utime,
+                      Point2d room_size_m = {10.0, 10.0}) {
   LidarScan scan;
   scan.utime = utime;
   scan.range_min_m = 0.01;
   scan.range_max_m = 100.0;
   scan.angle_min_rad = -M_PI;
   scan.angle_increment_rad = 2 * M_PI / 3600;
-  scan.range_m.assign(3600, 0.0f);
+  scan.range_m.resize(3600);
+  const double low = 0.1, high_x = room_size_m.x_m - 0.1, high_y = room_size_m.y_m - 0.1;
+  for (int beam = 0; beam < 3600; ++beam) {
+    const double angle = pose.yaw_rad + scan.angle_min_rad + beam * scan.angle_increment_rad;
+    const double c = std::cos(angle), s = std::sin(angle);
+    double range = 1e9;
+    if (c > 1e-9) range = std::min(range, (high_x - pose.x_m) / c);
+    if (c < -1e-9) range = std::min(range, (low - pose.x_m) / c);
+    if (s > 1e-9) range = std::min(range, (high_y - pose.y_m) / s);
+    if (s < -1e-9) range = std::min(range, (low - pose.y_m) / s);
+    scan.range_m[beam] = static_cast<float>(range);
+  }
   for (const Point2d& p : points) {
     const double dx = p.x_m - pose.x_m, dy = p.y_m - pose.y_m;
+    const double distance = std::hypot(dx, dy);
     const double bearing = WrapAngle(std::atan2(dy, dx) - pose.yaw_rad);
-    const int beam =
-        static_cast<int>(std::lround((bearing + M_PI) / scan.angle_increment_rad)) % 3600;
-    scan.range_m[beam] = static_cast<float>(std::hypot(dx, dy));
+    const double half_width = std::asin(std::min(1.0, 0.025 / distance));
+    const int first =
+        static_cast<int>(std::ceil((bearing - half_width + M_PI) / scan.angle_increment_rad));
+    const int last =
+        static_cast<int>(std::floor((bearing + half_width + M_PI) / scan.angle_increment_rad));
+    for (int b = first; b <= last; ++b) {
+      float& range = scan.range_m[(b % 3600 + 3600) % 3600];
+      range = std::min(range, static_cast<float>(distance));
+    }
   }
   return scan;
 }
@@ -488,13 +510,13 @@ LidarScan SweepSeeing(const std::vector<Point2d>& points, const Pose2d& pose, in
 // Drives with a scan of `obstacle` every cycle, until the goal settles; the closest the robot's
 // centre came to the obstacle. `max_y_m` (optional): the farthest north the robot got.
 double DriveSeeing(Navigator& navigator, Drive& drive, const std::vector<Point2d>& obstacle,
-                   double seconds, double* max_y_m = nullptr) {
+                   double seconds, double* max_y_m = nullptr, Point2d room_size_m = {10.0, 10.0}) {
   double min_distance_m = 1e9;
   const int64_t end = drive.utime + static_cast<int64_t>(seconds * 1e6);
   while (drive.utime < end) {
     drive.utime += kCycleUs;
     navigator.SetPose(PoseAt(drive.utime, drive.pose));
-    navigator.SetScan(SweepSeeing(obstacle, drive.pose, drive.utime));
+    navigator.SetScan(SweepSeeing(obstacle, drive.pose, drive.utime, room_size_m));
     const NavOutput out = navigator.Step(drive.utime);
     if (out.status.state != NavState::kActive) break;
     drive.pose = Integrate(drive.pose, out.command, kCycleUs * 1e-6);
@@ -597,6 +619,147 @@ TEST(Navigator, ScanReturnsThatKeepTheWayShutFailTheGoalAfterTheRecoveries) {
   DriveSeeing(navigator, drive, ChairInTheNorthDoor(), 1.0);
   EXPECT_EQ(navigator.status().state, NavState::kUnreachable);
   EXPECT_THAT(navigator.status().detail, HasSubstr("no path"));
+}
+
+// The livelock of campus runs: a chair the map does not hold shuts the near door, and the way
+// round, by a door 25 m off, leads away from it, past the reach of the scan marks. Were the
+// marks only the latest scan's, the plan would go back to the near door once the chair fell
+// out of their reach (and the planner's goal-distance field was renewed), the robot would turn
+// back, see the chair again, and so on. Marks last as long as the goal.
+TEST(Navigator, AChairSeenShuttingTheNearDoorKeepsItShutWhenTheRobotTurnsAway) {
+  // 10 m x 30 m, 0.15 m walls; a divider at x = 5 m with doors at y 2 to 3 and 27 to 28.
+  OccupancyGrid hall(200, 600, 0.05, {0.0, 0.0}, OccupancyGrid::kFree);
+  for (int row = 0; row < 600; ++row) {
+    for (int t = 0; t < 3; ++t) hall.at({t, row}) = hall.at({199 - t, row}) = 100;
+    const double y = (row + 0.5) * 0.05;
+    if ((y > 2.0 && y < 3.0) || (y > 27.0 && y < 28.0)) continue;
+    for (int col = 99; col < 102; ++col) hall.at({col, row}) = 100;
+  }
+  for (int col = 0; col < 200; ++col) {
+    for (int t = 0; t < 3; ++t) hall.at({col, t}) = hall.at({col, 599 - t}) = 100;
+  }
+  NavOptions options;
+  options.navigator.scan_mark_range_m = 1.5;
+  Navigator navigator{options};
+  navigator.SetMap(hall);
+  std::vector<Point2d> chair;  // across the near door
+  for (double y = 1.95; y <= 3.05; y += 0.05) chair.push_back({4.85, y});
+  Drive drive{{3.5, 2.5, 0.0}};  // 1.35 m from the chair: within the marks' reach
+  navigator.SetGoal(1, {7.5, 2.5}, 0);
+  double max_y_m = 0.0;
+  const double min_chair_distance_m =
+      DriveSeeing(navigator, drive, chair, 240.0, &max_y_m, {10.0, 30.0});
+  EXPECT_EQ(navigator.status().state, NavState::kReached) << navigator.status().detail;
+  EXPECT_EQ(navigator.status().recoveries_used, 0);
+  EXPECT_GT(max_y_m, 27.0);  // round by the far door
+  EXPECT_GT(min_chair_distance_m, 0.2);
+}
+
+// Where the marks come from and go: a return within reach marks its cell while it is within
+// reach. One that shut the path ahead stays marked out of reach, for the goal, until a beam
+// returns from beyond it, the map holds its cell, or a new goal (or a look) starts from the
+// latest scan.
+TEST(Navigator, ScanMarksThatShutThePathLastTheGoalUntilSeenThroughOrMapped) {
+  Navigator navigator{NavOptions{}};  // marks within 3 m, cleared by returns 0.15 m beyond
+  const OccupancyGrid room = Room();
+  const std::vector<Point2d> box = {{4.025, 5.025}};  // on the way from (2, 5) to (8, 5)
+  const Point2d crate{3.025, 7.025};                  // beside it
+  const Point2d wall_face{0.175, 6.025};              // a cell off the west wall's face
+  auto marked = [&](const Point2d& p) {
+    const Point2d centre = room.CellCenter(room.WorldToCell(p));
+    const std::vector<Point2d> marks = navigator.planning_obstacles().points_m;
+    return std::any_of(marks.begin(), marks.end(), [&](const Point2d& m) {
+      return std::hypot(m.x_m - centre.x_m, m.y_m - centre.y_m) < 1e-6;
+    });
+  };
+  int64_t utime = 0;
+  auto look = [&](const Pose2d& pose, const std::vector<Point2d>& seen, const OccupancyGrid& map) {
+    utime += kCycleUs;
+    navigator.SetPose(PoseAt(utime, pose));
+    navigator.SetScan(SweepSeeing(seen, pose, utime));
+    navigator.SetMap(map);  // marks the latest scan's returns
+    navigator.Step(utime);  // plans when due
+  };
+  navigator.SetGoal(1, {8.0, 5.0}, 0);
+  look({2.0, 5.0, 0.0}, {}, room);  // the straight path
+  ASSERT_FALSE(navigator.path_m().empty());
+  look({2.0, 5.0, 0.0}, {box[0], crate, wall_face}, room);  // 2 m, 2.2 m and 1.9 m away
+  EXPECT_TRUE(marked(box[0]));
+  EXPECT_TRUE(marked(crate));
+  EXPECT_TRUE(marked(wall_face));
+  // All still seen from 4.5 m or more away, out of reach: only the box stays marked.
+  look({8.5, 5.0, M_PI}, {box[0], crate, wall_face}, room);
+  EXPECT_TRUE(marked(box[0]));
+  EXPECT_FALSE(marked(crate));
+  EXPECT_FALSE(marked(wall_face));
+  // Seen through: the box is gone, beams return from the wall behind it.
+  look({8.5, 5.0, M_PI}, {}, room);
+  EXPECT_FALSE(marked(box[0]));
+
+  // The map holding the cell drops the mark.
+  navigator.SetGoal(2, {8.0, 5.0}, utime);
+  look({2.0, 5.0, 0.0}, {}, room);
+  look({2.0, 5.0, 0.0}, box, room);
+  look({8.5, 5.0, M_PI}, box, room);
+  EXPECT_TRUE(marked(box[0]));
+  OccupancyGrid mapped = room;
+  mapped.at(room.WorldToCell(box[0])) = OccupancyGrid::kOccupied;
+  look({8.5, 5.0, M_PI}, box, mapped);
+  EXPECT_FALSE(marked(box[0]));
+  look({8.5, 5.0, M_PI}, box, room);  // and it does not come back from out of reach
+  EXPECT_FALSE(marked(box[0]));
+
+  // A new goal starts from the latest scan's marks.
+  navigator.SetGoal(3, {8.0, 5.0}, utime);
+  look({2.0, 5.0, 0.0}, {}, room);
+  look({2.0, 5.0, 0.0}, box, room);
+  look({8.5, 5.0, M_PI}, box, room);
+  EXPECT_TRUE(marked(box[0]));
+  navigator.SetGoal(4, {8.0, 8.0}, utime);
+  look({8.5, 5.0, M_PI}, box, room);
+  EXPECT_FALSE(marked(box[0]));
+}
+
+// A chair appears in the door the robot is heading for: the way round by the other door is
+// taken if the trip (driven + the way round) is not much longer than the goal's first plan
+// (nav.detour_factor x that + nav.detour_slack_m), else the goal fails (the utility chooses
+// again, with the marks).
+NavState DriveIntoADoorAChairShuts(double detour_factor, double detour_slack_m, double* max_y_m,
+                                   std::string* detail) {
+  NavOptions options;
+  options.navigator.detour_factor = detour_factor;
+  options.navigator.detour_slack_m = detour_slack_m;
+  Navigator navigator{options};
+  navigator.SetMap(Room(/*divider=*/true, /*south_gap=*/true));
+  Drive drive{{2.0, 2.5, 0.0}};
+  navigator.SetGoal(1, {8.0, 2.5}, 0);
+  DriveSeeing(navigator, drive, {}, 3.0);
+  EXPECT_GT(drive.pose.x_m, 2.5);  // on the way to the south door
+  EXPECT_LT(MaxPathY(navigator), 3.5);
+  std::vector<Point2d> chair;
+  for (double y = 1.975; y <= 3.05; y += 0.05) chair.push_back({4.825, y});
+  DriveSeeing(navigator, drive, chair, 120.0, max_y_m);
+  *detail = navigator.status().detail;
+  return navigator.status().state;
+}
+
+TEST(Navigator, AWayScanReturnsShutIsLeftForTheWayRoundUnlessThatIsMuchLonger) {
+  double max_y_m = 0.0;
+  std::string detail;
+  // A first plan of about 6 m through the south door; about 1 m driven and 13 m round by the
+  // north one.
+  const NavigatorOptions defaults;
+  EXPECT_EQ(
+      DriveIntoADoorAChairShuts(defaults.detour_factor, defaults.detour_slack_m, &max_y_m, &detail),
+      NavState::kReached)
+      << detail;
+  EXPECT_GT(max_y_m, 7.0);
+  max_y_m = 0.0;
+  EXPECT_EQ(
+      DriveIntoADoorAChairShuts(/*detour_factor=*/2.0, /*detour_slack_m=*/0.0, &max_y_m, &detail),
+      NavState::kFailed);
+  EXPECT_THAT(detail, HasSubstr("shut the way"));
+  EXPECT_LT(max_y_m, 3.5);  // failed where the chair was seen
 }
 
 // A doorway the map shows 1 m wide; the scan shows clutter narrowing it to 0.5 m from both
