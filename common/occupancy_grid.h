@@ -69,6 +69,10 @@ class OccupancyGrid {
   std::size_t LinearIndex(CellIndex cell) const {
     return static_cast<std::size_t>(cell.row) * width_cells_ + cell.col;
   }
+  // The inverse of LinearIndex.
+  CellIndex CellOfLinearIndex(std::size_t index) const {
+    return {static_cast<int>(index % width_cells_), static_cast<int>(index / width_cells_)};
+  }
   int8_t at(CellIndex cell) const { return cells_[LinearIndex(cell)]; }
   int8_t& at(CellIndex cell) { return cells_[LinearIndex(cell)]; }
   // Value of a cell, or `outside` for a cell off the grid.

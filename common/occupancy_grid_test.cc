@@ -37,6 +37,9 @@ TEST(OccupancyGrid, RowMajorStorageAndCounts) {
   EXPECT_EQ(grid.cells()[2 * 4 + 1], 0);
   EXPECT_EQ(grid.cells()[3], 100);
   EXPECT_EQ(grid.ValueOr({-1, 0}, 77), 77);
+  const CellIndex back = grid.CellOfLinearIndex(grid.LinearIndex({1, 2}));
+  EXPECT_EQ(back.col, 1);
+  EXPECT_EQ(back.row, 2);
   const auto counts = grid.CountCells();
   EXPECT_EQ(counts.unknown, 9u);
   EXPECT_EQ(counts.free, 1u);

@@ -108,10 +108,8 @@ void Navigator::UpdateScanMarks() {
   };
   const std::vector<std::size_t> kept_cells = cells_of(kept_marks_m_);
   kept_marks_m_.clear();
-  const int width = map_.width_cells();
   for (std::size_t index : kept_cells) {
-    const int row = static_cast<int>(index / width);
-    kept_marks_m_.push_back(map_.CellCenter({static_cast<int>(index) - row * width, row}));
+    kept_marks_m_.push_back(map_.CellCenter(map_.CellOfLinearIndex(index)));
   }
   std::vector<std::size_t> cells = cells_of(marks);
   // Update only when the marks change (or the map did).
@@ -195,10 +193,8 @@ PlanningObstacles Navigator::planning_obstacles() const {
   PlanningObstacles obstacles;
   obstacles.utime = marks_utime_;
   obstacles.points_m.reserve(marked_cells_.size());
-  const int width = map_.width_cells();
   for (std::size_t index : marked_cells_) {
-    const int row = static_cast<int>(index / width);
-    obstacles.points_m.push_back(map_.CellCenter({static_cast<int>(index) - row * width, row}));
+    obstacles.points_m.push_back(map_.CellCenter(map_.CellOfLinearIndex(index)));
   }
   return obstacles;
 }
