@@ -202,8 +202,7 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
       s.u1 = U1FromLogDet(log_det, base.num_nodes + extension.num_new_nodes);
     }
     if (method == UtilityMethod::kOurs) {
-      const U2Terms u2 =
-          ComputeU2(map, robot_cell, target_cells[i], s.u1, options_.path_entropy, s.path_length_m);
+      const U2Terms u2 = ComputeU2(map, robot_cell, target_cells[i], s.u1, options_.path_entropy);
       s.ray_cells = u2.ray_cells;
       s.path_entropy_bits = u2.path_entropy_bits;
       s.mean_entropy_bits = u2.mean_entropy_bits;

@@ -82,7 +82,7 @@ int DigitsOfIntegerPart(double u1) {
 }
 
 U2Terms ComputeU2(const OccupancyGrid& map, CellIndex robot, CellIndex target, double u1,
-                  const PathEntropyOptions& options, double path_length_m) {
+                  const PathEntropyOptions& options) {
   U2Terms terms;
   const RayEntropy ray = PathEntropy(map, robot, target, options);
   terms.ray_cells = ray.ray_cells;
@@ -91,13 +91,12 @@ U2Terms ComputeU2(const OccupancyGrid& map, CellIndex robot, CellIndex target, d
   const double distance_cells = std::hypot(static_cast<double>(target.col - robot.col),
                                            static_cast<double>(target.row - robot.row));
   terms.distance_m = distance_cells * map.resolution_m();
-  double d = options.distance_unit == DistanceUnit::kMeters ? terms.distance_m : distance_cells;
-  if (options.gamma_on_path && path_length_m >= 0) d = path_length_m;
+  const double d =
+      options.distance_unit == DistanceUnit::kMeters ? terms.distance_m : distance_cells;
   terms.gamma = std::exp(-options.lambda * d);
   terms.beta = DigitsOfIntegerPart(u1);
   terms.rho = std::pow(10.0, terms.beta);
-  terms.u2 = (1.0 - terms.mean_entropy_bits) * terms.rho +
-             terms.gamma * (options.gamma_scaled_by_rho ? terms.rho : 1.0);
+  terms.u2 = (1.0 - terms.mean_entropy_bits) * terms.rho + terms.gamma;
   return terms;
 }
 

@@ -25,10 +25,8 @@ enum class DistanceUnit { kMeters, kCells };
 struct PathEntropyOptions {
   double lambda = 0.6;  // decay rate of γ, per distance unit
   DistanceUnit distance_unit = DistanceUnit::kMeters;
-  double p_unknown = 0.1;            // occupancy probability assigned to an unknown cell
-  double p_known = 0.45;             // ... and to a known (free or occupied) one
-  bool gamma_scaled_by_rho = false;  // U2 = (1 - E/K) ρ + γ ρ (not the paper's: measured, dropped)
-  bool gamma_on_path = false;        // d in γ is the planned path's length (likewise)
+  double p_unknown = 0.1;  // occupancy probability assigned to an unknown cell
+  double p_known = 0.45;   // ... and to a known (free or occupied) one
 
   // Throws std::invalid_argument naming the field and value.
   void Validate() const;
@@ -66,6 +64,6 @@ struct U2Terms {
 };
 
 U2Terms ComputeU2(const OccupancyGrid& map, CellIndex robot, CellIndex target, double u1,
-                  const PathEntropyOptions& options, double path_length_m = -1.0);
+                  const PathEntropyOptions& options);
 
 }  // namespace aslam

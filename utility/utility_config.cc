@@ -49,8 +49,6 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
   } else {
     u.Fail("distance_unit", "expected m or cells");
   }
-  u.Read("gamma_scaled_by_rho", &s.path_entropy.gamma_scaled_by_rho);
-  u.Read("gamma_on_path", &s.path_entropy.gamma_on_path);
   u.ReadInRange("min_distance_m", &s.min_distance_m, 0.0, 100.0);
   u.ReadInRange("max_path_length_m", &s.max_path_length_m, 0.0, 1e6);
   u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
