@@ -33,6 +33,7 @@
 #include "navigation/nav_node.h"
 #include "slam/slam_config.h"
 #include "slam/slam_node.h"
+#include "tests/decision_fixture.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
 
@@ -90,8 +91,7 @@ int Run(const std::string& kind, const std::string& out, double duration_s) {
   SlamNode slam_node(host.lcm(), slam_config.slam, slam_config.node);
   FrontierNode frontier_node(
       host.lcm(), LoadFrontierOptions(ConfigReader::FromFile(config, "frontier"), nav_options));
-  UtilityNode utility_node(
-      host.lcm(), LoadUtilityOptions(ConfigReader::FromFile(config, "utility"), nav_options));
+  UtilityNode utility_node(host.lcm(), DecisionFixtureUtilityOptions(config, nav_options));
   std::optional<NavNode> nav_node;
   if (exploration) nav_node.emplace(host.lcm(), nav_options);
   const int64_t end_us = static_cast<int64_t>(duration_s * 1e6);

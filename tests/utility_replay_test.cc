@@ -21,6 +21,7 @@
 #include "common/lcm_util.h"
 #include "frontier/frontier_config.h"
 #include "frontier/frontier_node.h"
+#include "tests/decision_fixture.h"
 #include "utility/utility_config.h"
 #include "utility/utility_node.h"
 
@@ -51,8 +52,7 @@ TEST(UtilityReplay, SameFrontiersScoresAndGoalsAsRecorded) {
   const NavOptions nav = LoadNavOptionsFromFile(kConfig);
   FrontierNode frontier_node(host.lcm(),
                              LoadFrontierOptions(ConfigReader::FromFile(kConfig, "frontier"), nav));
-  UtilityNode utility_node(host.lcm(),
-                           LoadUtilityOptions(ConfigReader::FromFile(kConfig, "utility"), nav));
+  UtilityNode utility_node(host.lcm(), DecisionFixtureUtilityOptions(kConfig, nav));
   Outputs replayed, recorded;
   Subscriptions capture(host.lcm());
   capture.Add<frontier_list_t>(channels::kFrontiers, [&](const frontier_list_t& m) {

@@ -87,7 +87,10 @@ ExploreActions ExplorationManager::OnFrontiers(FrontierList frontiers) {
     const bool still_there =
         std::any_of(fs.begin(), fs.end(),
                     [goal_frontier_id](const Frontier& f) { return f.id == goal_frontier_id; });
-    if (!still_there) decision_pending_ = true;
+    if (!still_there && !goal_->frontier_vanished) {
+      goal_->frontier_vanished = true;
+      (options_.keep_vanished_goal ? vanished_goal_check_pending_ : decision_pending_) = true;
+    }
   }
   return AfterInput(utime);
 }
@@ -198,6 +201,12 @@ ExploreActions ExplorationManager::OnDecision(const GoalDecision& decision) {
   return actions;
 }
 
+ExploreActions ExplorationManager::OnGoalKept() {
+  ExploreActions actions;
+  actions.status = PublishStatus();
+  return actions;
+}
+
 void ExplorationManager::ForgiveBlacklist(const std::vector<std::size_t>& indices) {
   std::vector<Point2d> kept;
   for (std::size_t i = 0; i < blacklist_m_.size(); ++i) {
@@ -279,10 +288,13 @@ ExploreActions ExplorationManager::AfterInput(int64_t utime) {
 
 ExploreActions ExplorationManager::Next() {
   ExploreActions actions;
-  if (mode_ == ControlMode::kExploring && decision_pending_ && Ready()) {
+  const bool check_vanished_goal = vanished_goal_check_pending_ && goal_ && !decision_pending_;
+  if (mode_ == ControlMode::kExploring && (decision_pending_ || check_vanished_goal) && Ready()) {
     // The decision's own status goes out with OnDecision, so no heartbeat is due after it.
     decision_pending_ = false;
+    vanished_goal_check_pending_ = false;
     actions.decision = DecisionRequest{latest_utime_, decisions_};
+    if (check_vanished_goal) actions.decision->vanished_goal_target_m = goal_->target_m;
     return actions;
   }
   actions.goal = ReturnIfComplete();

@@ -36,6 +36,9 @@ struct ExplorationOptions {
   // When done, drive back to the exploration's start first; the status says done once there
   // (or once the way back has failed kReturnHomeAttempts times).
   bool return_home = false;
+  // When the active goal's frontier vanishes, drive on to its target if it is still reachable
+  // (DecisionRequest::vanished_goal_target_m) instead of deciding again at once.
+  bool keep_vanished_goal = false;
 
   // Throws std::invalid_argument naming the field and value.
   void Validate() const;
@@ -79,6 +82,9 @@ struct ExploreGoal {
 struct DecisionRequest {
   int64_t utime = 0;
   int64_t decision_id = 0;
+  // keep_vanished_goal: the active goal's frontier vanished. If this target is still
+  // reachable, call OnGoalKept() and decide nothing; else decide as usual.
+  std::optional<Point2d> vanished_goal_target_m;
 };
 
 // What to publish, in member order (see the top of this file).
@@ -131,6 +137,9 @@ class ExplorationManager {
   ExploreActions OnControl(ExploreCommand command);
   // The GoalSelector's answer to the pending DecisionRequest.
   ExploreActions OnDecision(const GoalDecision& decision);
+  // The answer to a DecisionRequest with a vanished goal target that is still reachable:
+  // the goal stays; no decision is counted.
+  ExploreActions OnGoalKept();
 
   // Map, pose and frontiers known and, for ags and ours, a pose graph with nodes.
   bool Ready() const;
@@ -170,6 +179,7 @@ class ExplorationManager {
     int frontier_id = -1;
     Point2d target_m;
     int64_t published_utime = 0;
+    bool frontier_vanished = false;  // kept on (keep_vanished_goal) after its frontier went
   };
 
   // After every accepted input: takes in its time, then Next().
@@ -204,7 +214,8 @@ class ExplorationManager {
   // (done timer) nor freeze the heartbeat, and a real clock step is followed.
   StreamClock clock_{60'000'000, kDefaultResyncMessages, /*late_tolerance_us=*/60'000'000};
   std::optional<int64_t> last_status_utime_;
-  bool decision_pending_ = true;  // no goal yet: decide as soon as the inputs allow
+  bool decision_pending_ = true;              // no goal yet: decide as soon as the inputs allow
+  bool vanished_goal_check_pending_ = false;  // keep_vanished_goal: is its target reachable?
 
   std::optional<ActiveGoal> goal_;
   int64_t next_goal_id_ = 0;

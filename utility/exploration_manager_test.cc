@@ -162,6 +162,7 @@ TEST(ExplorationManager, FrontiersDecideWithoutAGoalOrWhenTheGoalsFrontierVanish
   const ExploreActions due = m.OnFrontiers(Frontiers(3 * kSecond, {9, 12}));
   ASSERT_TRUE(due.decision.has_value());
   EXPECT_EQ(due.decision->decision_id, 1);
+  EXPECT_FALSE(due.decision->vanished_goal_target_m.has_value());  // no keep_vanished_goal
   EXPECT_TRUE(m.blacklist_m().empty());
   EXPECT_EQ(m.goals_reached() + m.goals_failed(), 0);
   // The new goal supersedes the old one without a cancel.
@@ -177,6 +178,44 @@ TEST(ExplorationManager, FrontiersDecideWithoutAGoalOrWhenTheGoalsFrontierVanish
   idle.OnDecision(NoGoal());
   EXPECT_FALSE(idle.OnPose(StampedPose{kSecond, {}, 0.0, 0.0}).decision.has_value());
   EXPECT_TRUE(idle.OnFrontiers(Frontiers(kSecond, {})).decision.has_value());
+}
+
+TEST(ExplorationManager, AKeptGoalWhoseFrontierVanishedIsCheckedOnceAndDecidedWhenItEnds) {
+  ExplorationManager m(ExplorationOptions{UtilityMethod::kFd, 10.0, /*return_home=*/false,
+                                          /*keep_vanished_goal=*/true});
+  FirstGoal(m);
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(2 * kSecond, {9, 7})).decision.has_value());
+  // Gone: the node is asked whether goal 0's target can still be reached.
+  const ExploreActions check = m.OnFrontiers(Frontiers(3 * kSecond, {9, 12}));
+  ASSERT_TRUE(check.decision.has_value());
+  ASSERT_TRUE(check.decision->vanished_goal_target_m.has_value());
+  EXPECT_EQ(check.decision->vanished_goal_target_m->x_m, kNear.x_m);
+  EXPECT_EQ(check.decision->vanished_goal_target_m->y_m, kNear.y_m);
+  // It can: the goal stays, nothing is published but the status, no decision is counted.
+  const ExploreActions kept = m.OnGoalKept();
+  EXPECT_FALSE(kept.goal.has_value());
+  ASSERT_TRUE(kept.status.has_value());
+  EXPECT_EQ(kept.status->current_goal_id, 0);
+  EXPECT_EQ(m.decisions(), 1);
+  // Later lists without its frontier ask nothing more.
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(4 * kSecond, {9, 12})).decision.has_value());
+  EXPECT_FALSE(m.OnFrontiers(Frontiers(5 * kSecond, {12})).decision.has_value());
+  // Reached: blacklisted and counted as any goal, then a plain decision.
+  const ExploreActions due = m.OnNavStatus(Nav(6 * kSecond, 0, NavState::kReached));
+  ASSERT_TRUE(due.decision.has_value());
+  EXPECT_FALSE(due.decision->vanished_goal_target_m.has_value());
+  EXPECT_EQ(m.goals_reached(), 1);
+  ASSERT_EQ(m.blacklist_m().size(), 1u);
+
+  // A vanished target that cannot be reached is answered with a decision: it replaces the goal.
+  ExplorationManager replaced(ExplorationOptions{UtilityMethod::kFd, 10.0, false, true});
+  FirstGoal(replaced);
+  ASSERT_TRUE(replaced.OnFrontiers(Frontiers(3 * kSecond, {9})).decision.has_value());
+  const ExploreActions after = replaced.OnDecision(Chose(9, kFar));
+  ASSERT_TRUE(after.goal.has_value());
+  EXPECT_EQ(after.goal->goal_id, 1);
+  EXPECT_EQ(replaced.decisions(), 2);
+  EXPECT_TRUE(replaced.blacklist_m().empty());
 }
 
 TEST(ExplorationManager, NothingEligibleCancelsTheActiveGoalOnce) {

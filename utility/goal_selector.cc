@@ -241,6 +241,19 @@ void GoalSelector::Consider(std::size_t index, GoalDecision* decision) const {
   }
 }
 
+bool GoalSelector::CanReach(const OccupancyGrid& map, const Pose2d& robot, Point2d target_m) {
+  costmap_.Update(map, options_.costmap);
+  const CellIndex target = map.WorldToCell(target_m);
+  std::vector<CellIndex> wait_for;
+  if (costmap_.Contains(target) && costmap_.Traversable(target)) wait_for.push_back(target);
+  // Snap candidates are needed when the target cannot be entered, or entered but not reached.
+  const std::vector<CellIndex> snap_candidates =
+      GoalSnapCandidates(costmap_, target, options_.goal_snap_m);
+  wait_for.insert(wait_for.end(), snap_candidates.begin(), snap_candidates.end());
+  planner_.Search(costmap_, map.WorldToCell({robot.x_m, robot.y_m}), wait_for, &tree_);
+  return ReachableGoalCell(tree_, target, snap_candidates).has_value();
+}
+
 std::vector<std::size_t> GoalSelector::PointsToRetry(const GoalDecision& decision,
                                                      const std::vector<Point2d>& blacklist_m,
                                                      const std::vector<Point2d>& retried_m) const {

@@ -121,6 +121,9 @@ class GoalSelector {
                       const std::vector<Frontier>& frontiers,
                       const std::vector<Point2d>& blacklist_m);
 
+  // Whether the robot can reach `target_m` on `map` (snapped as Decide and the navigator do).
+  bool CanReach(const OccupancyGrid& map, const Pose2d& robot, Point2d target_m);
+
   // The last pass before nothing is eligible: the blacklist points (indices into `blacklist_m`)
   // to forgive so that the reachable frontiers `decision` found blacklisted are tried once
   // more. A point within blacklist_radius_m of one in `retried_m` (forgiven before) is not

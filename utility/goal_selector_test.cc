@@ -171,6 +171,25 @@ TEST(GoalSelector, EligibilityReasons) {
   EXPECT_FALSE(Decide(Options(UtilityMethod::kFd), WalledRoom(), kRoomRobot, {}).has_goal());
 }
 
+TEST(GoalSelector, CanReachAsDecideDoes) {
+  GoalSelectorOptions options = Options(UtilityMethod::kOurs);
+  options.goal_snap_m = 0.15;
+  GoalSelector selector(options);
+  const OccupancyGrid room = WalledRoom();
+  EXPECT_TRUE(selector.CanReach(room, kRoomRobot, kA));  // around the wall
+  EXPECT_TRUE(selector.CanReach(room, kRoomRobot, kB));
+  EXPECT_FALSE(selector.CanReach(room, kRoomRobot, kInTheBox));
+  EXPECT_FALSE(selector.CanReach(room, kRoomRobot, kAtTheWall));  // snap too short
+  // The gap over the wall shut: A is cut off, B is not.
+  OccupancyGrid shut = room;
+  Fill(&shut, 20, 30, 20, 38, OccupancyGrid::kOccupied);
+  EXPECT_FALSE(selector.CanReach(shut, kRoomRobot, kA));
+  EXPECT_TRUE(selector.CanReach(shut, kRoomRobot, kB));
+  // A snap long enough reaches the wall target's traversable neighbour.
+  options.goal_snap_m = 0.35;
+  EXPECT_TRUE(GoalSelector(options).CanReach(room, kRoomRobot, kAtTheWall));
+}
+
 TEST(GoalSelector, RobotOffTheMapReachesNothing) {
   const GoalDecision d =
       Decide(Options(UtilityMethod::kFd), WalledRoom(), {-3.0, -3.0, 0.0}, {MakeFrontier(2, kB)});

@@ -54,6 +54,7 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
   u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
   u.Read("return_home", &options.return_home);
+  u.Read("ours_keeps_vanished_goal", &options.ours_keeps_vanished_goal);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 

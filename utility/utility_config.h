@@ -20,6 +20,9 @@ struct UtilityOptions {
   double done_timeout_s = 10.0;
   // When done, drive back to the exploration's start, then say done (aslam explore --return-home).
   bool return_home = false;
+  // ours drives on to a goal whose frontier vanished while its target is reachable, and
+  // decides again when the goal ends; fd and ags decide again at once (docs/architecture.md §9).
+  bool ours_keeps_vanished_goal = true;
 };
 
 // Reads and validates the `utility` section, planning as `nav` does; throws

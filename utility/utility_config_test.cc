@@ -40,6 +40,8 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(s.blacklist_radius_m, d.blacklist_radius_m);
   EXPECT_DOUBLE_EQ(s.goal_snap_m, d.goal_snap_m);
   EXPECT_DOUBLE_EQ(shipped.done_timeout_s, defaults.done_timeout_s);
+  EXPECT_TRUE(shipped.ours_keeps_vanished_goal);
+  EXPECT_EQ(shipped.ours_keeps_vanished_goal, defaults.ours_keeps_vanished_goal);
   EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, d.costmap.robot_radius_m);
   EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, d.costmap.inflation_margin_m);
   EXPECT_DOUBLE_EQ(s.costmap.cost_scaling_per_m, d.costmap.cost_scaling_per_m);
@@ -108,11 +110,13 @@ TEST(UtilityConfig, EmptyFileNameGivesDefaults) {
 }
 
 TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
-  const UtilityOptions fd =
-      Load("utility:\n  method: fd\n  blacklist_radius_m: 1.0\n  done_timeout_s: 3\n");
+  const UtilityOptions fd = Load(
+      "utility:\n  method: fd\n  blacklist_radius_m: 1.0\n  done_timeout_s: 3\n"
+      "  ours_keeps_vanished_goal: false\n");
   EXPECT_EQ(fd.selector.method, UtilityMethod::kFd);
   EXPECT_DOUBLE_EQ(fd.selector.blacklist_radius_m, 1.0);
   EXPECT_DOUBLE_EQ(fd.done_timeout_s, 3.0);
+  EXPECT_FALSE(fd.ours_keeps_vanished_goal);
   const UtilityOptions ags = Load(
       "utility:\n  method: ags\n  distance_unit: cells\n"
       "  hallucination: {exclude_newest_nodes: 5}\n");

@@ -20,8 +20,9 @@ namespace aslam {
 UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
     : lcm_(lcm),
       selector_(options.selector),
-      manager_(
-          ExplorationOptions{options.selector.method, options.done_timeout_s, options.return_home}),
+      manager_(ExplorationOptions{
+          options.selector.method, options.done_timeout_s, options.return_home,
+          options.ours_keeps_vanished_goal && options.selector.method == UtilityMethod::kOurs}),
       subscriptions_(lcm) {
   AddMapSubscription(subscriptions_, channels::kSlamMap,
                      [this](MapMessage m) { return OnMap(std::move(m)); });
@@ -130,6 +131,12 @@ void UtilityNode::Decide(const DecisionRequest& request) {
     return selector_.Decide(map, robot, manager_.graph(), manager_.frontiers(),
                             manager_.blacklist_m());
   };
+  // ours' goal whose frontier vanished: it stays while its target can be reached (§9).
+  if (request.vanished_goal_target_m && selector_.CanReach(marked ? *marked : manager_.map(), robot,
+                                                           *request.vanished_goal_target_m)) {
+    Carry(manager_.OnGoalKept());
+    return;
+  }
   GoalDecision decision = decide(marked ? *marked : manager_.map());
   if (!decision.has_goal() && marked) decision = decide(manager_.map());
   if (!decision.has_goal()) {

@@ -504,6 +504,48 @@ TEST(UtilityNode, AVanishedFrontierTriggersADecisionAndNothingLeftCancels) {
   EXPECT_EQ(bench.node().current_goal_id(), -1);
 }
 
+TEST(UtilityNode, OursDrivesOnToAVanishedGoalWhileItsTargetCanBeReached) {
+  Bench bench(UtilityMethod::kOurs);
+  bench.Map(100'000);
+  bench.Pose(100'000);
+  bench.Graph(100'000);
+  bench.Frontiers(100'000, {MakeFrontier(7, kNear), MakeFrontier(9, kFar)});
+  ASSERT_EQ(bench.goals.size(), 1u);
+  const int chosen = bench.goals[0].frontier_id;
+  const Point2d target = chosen == 7 ? kNear : kFar;
+  const Frontier other = chosen == 7 ? MakeFrontier(9, kFar) : MakeFrontier(7, kNear);
+
+  bench.Frontiers(1'100'000, {other, MakeFrontier(12, kNorth)});  // the goal's frontier is gone
+  EXPECT_EQ(bench.scores.size(), 1u);                             // no decision
+  EXPECT_EQ(bench.goals.size(), 1u);                              // goal 0 stays
+  EXPECT_EQ(bench.node().current_goal_id(), 0);
+  EXPECT_EQ(bench.node().decisions(), 1);
+
+  // Walled in (a newly seen obstacle): no longer reachable, so it is replaced at once.
+  Bench walled(UtilityMethod::kOurs);
+  walled.Map(100'000);
+  walled.Pose(100'000);
+  walled.Graph(100'000);
+  walled.Frontiers(100'000, {MakeFrontier(7, kNear), MakeFrontier(9, kFar)});
+  ASSERT_EQ(walled.goals.size(), 1u);
+  ASSERT_EQ(walled.goals[0].frontier_id, chosen);  // the same decision as above
+  OccupancyGrid map = Room();
+  const CellIndex t = map.WorldToCell(target);
+  for (int r = t.row - 8; r <= t.row + 8; ++r) {
+    for (int c = t.col - 8; c <= t.col + 8; ++c) {
+      const bool ring = std::abs(r - t.row) == 8 || std::abs(c - t.col) == 8;
+      if (ring && map.Contains({c, r})) map.at({c, r}) = OccupancyGrid::kOccupied;
+    }
+  }
+  walled.Map(1'000'000, map);
+  walled.Frontiers(1'100'000, {other});
+  ASSERT_EQ(walled.scores.size(), 2u);
+  ASSERT_EQ(walled.goals.size(), 2u);
+  EXPECT_EQ(walled.goals[1].goal_id, 1);
+  EXPECT_EQ(walled.goals[1].frontier_id, other.id);
+  EXPECT_TRUE(walled.node().blacklist_m().empty());  // replaced, neither reached nor failed
+}
+
 TEST(UtilityNode, OursWaitsForTheGraphThenPublishesEveryTerm) {
   Bench bench(UtilityMethod::kOurs);
   bench.Map(100'000);
