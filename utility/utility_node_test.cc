@@ -504,12 +504,17 @@ TEST(UtilityNode, AVanishedFrontierTriggersADecisionAndNothingLeftCancels) {
   EXPECT_EQ(bench.node().current_goal_id(), -1);
 }
 
-TEST(UtilityNode, OursDrivesOnToAVanishedGoalWhileItsTargetCanBeReached) {
-  Bench bench(UtilityMethod::kOurs);
+// ours' first goal in Room(): frontier 7 at kNear or 9 at kFar.
+void OursFirstGoal(Bench& bench) {
   bench.Map(100'000);
   bench.Pose(100'000);
   bench.Graph(100'000);
   bench.Frontiers(100'000, {MakeFrontier(7, kNear), MakeFrontier(9, kFar)});
+}
+
+TEST(UtilityNode, OursDrivesOnToAVanishedGoalWhileItsTargetCanBeReached) {
+  Bench bench(UtilityMethod::kOurs);
+  OursFirstGoal(bench);
   ASSERT_EQ(bench.goals.size(), 1u);
   const int chosen = bench.goals[0].frontier_id;
   const Point2d target = chosen == 7 ? kNear : kFar;
@@ -523,10 +528,7 @@ TEST(UtilityNode, OursDrivesOnToAVanishedGoalWhileItsTargetCanBeReached) {
 
   // Walled in (a newly seen obstacle): no longer reachable, so it is replaced at once.
   Bench walled(UtilityMethod::kOurs);
-  walled.Map(100'000);
-  walled.Pose(100'000);
-  walled.Graph(100'000);
-  walled.Frontiers(100'000, {MakeFrontier(7, kNear), MakeFrontier(9, kFar)});
+  OursFirstGoal(walled);
   ASSERT_EQ(walled.goals.size(), 1u);
   ASSERT_EQ(walled.goals[0].frontier_id, chosen);  // the same decision as above
   OccupancyGrid map = Room();
