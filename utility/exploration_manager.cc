@@ -89,7 +89,8 @@ ExploreActions ExplorationManager::OnFrontiers(FrontierList frontiers) {
                     [goal_frontier_id](const Frontier& f) { return f.id == goal_frontier_id; });
     if (!still_there && !goal_->frontier_vanished) {
       goal_->frontier_vanished = true;
-      (options_.keep_vanished_goal ? vanished_goal_check_pending_ : decision_pending_) = true;
+      (options_.keep_vanished_goal && !goal_->pocket ? vanished_goal_check_pending_
+                                                     : decision_pending_) = true;
     }
   }
   return AfterInput(utime);
@@ -187,7 +188,8 @@ ExploreActions ExplorationManager::OnDecision(const GoalDecision& decision) {
   last_num_eligible_ = decision.num_eligible;
   if (decision.has_goal()) {
     const FrontierScore& chosen = decision.chosen();
-    goal_ = ActiveGoal{next_goal_id_++, chosen.frontier_id, chosen.target_m, 0};
+    goal_ =
+        ActiveGoal{next_goal_id_++, chosen.frontier_id, chosen.target_m, 0, false, chosen.pocket};
     no_eligible_since_utime_.reset();
     actions.goal = PublishGoal();
   } else {
@@ -293,7 +295,7 @@ ExploreActions ExplorationManager::Next() {
     // The decision's own status goes out with OnDecision, so no heartbeat is due after it.
     decision_pending_ = false;
     vanished_goal_check_pending_ = false;
-    actions.decision = DecisionRequest{latest_utime_, decisions_};
+    actions.decision = DecisionRequest{latest_utime_, decisions_, std::nullopt};
     if (check_vanished_goal) actions.decision->vanished_goal_target_m = goal_->target_m;
     return actions;
   }

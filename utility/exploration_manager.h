@@ -180,6 +180,7 @@ class ExplorationManager {
     Point2d target_m;
     int64_t published_utime = 0;
     bool frontier_vanished = false;  // kept on (keep_vanished_goal) after its frontier went
+    bool pocket = false;             // chosen nearest first among pockets: never kept on
   };
 
   // After every accepted input: takes in its time, then Next().

@@ -218,6 +218,24 @@ TEST(ExplorationManager, AKeptGoalWhoseFrontierVanishedIsCheckedOnceAndDecidedWh
   EXPECT_TRUE(replaced.blacklist_m().empty());
 }
 
+TEST(ExplorationManager, APocketGoalWhoseFrontierVanishedIsReplacedAtOnce) {
+  ExplorationManager m(ExplorationOptions{UtilityMethod::kFd, 10.0, /*return_home=*/false,
+                                          /*keep_vanished_goal=*/true});
+  MapAndPose(m, kSecond);
+  ASSERT_TRUE(m.OnFrontiers(Frontiers(kSecond, {7, 9})).decision.has_value());
+  GoalDecision pocket = Chose(7, kNear);
+  pocket.scores[0].pocket = true;  // chosen nearest first among pockets
+  ASSERT_TRUE(m.OnDecision(pocket).goal.has_value());
+  // Gone: a plain decision, as fd's, with no reachability check of the old target.
+  const ExploreActions due = m.OnFrontiers(Frontiers(3 * kSecond, {9}));
+  ASSERT_TRUE(due.decision.has_value());
+  EXPECT_FALSE(due.decision->vanished_goal_target_m.has_value());
+  const ExploreActions after = m.OnDecision(Chose(9, kFar));
+  ASSERT_TRUE(after.goal.has_value());
+  EXPECT_EQ(after.goal->goal_id, 1);
+  EXPECT_EQ(m.decisions(), 2);
+}
+
 TEST(ExplorationManager, NothingEligibleCancelsTheActiveGoalOnce) {
   ExplorationManager m = Manager();
   FirstGoal(m);

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "utility/unknown_pockets.h"
+
 namespace aslam {
 namespace {
 
@@ -66,6 +68,7 @@ const char* EligibilityName(Eligibility eligibility) {
     case Eligibility::kUnreachable: return "unreachable";
     case Eligibility::kBlacklisted: return "blacklisted";
     case Eligibility::kTooFar: return "too far";
+    case Eligibility::kPocket: return "pocket";
   }
   return "?";
 }
@@ -80,6 +83,9 @@ void GoalSelectorOptions::Validate() const {
   }
   if (!(blacklist_radius_m >= 0.0) || !std::isfinite(blacklist_radius_m)) {
     ThrowBadOption("blacklist_radius_m", blacklist_radius_m, "must be finite and >= 0");
+  }
+  if (!(pocket_max_area_m2 >= 0.0) || !std::isfinite(pocket_max_area_m2)) {
+    ThrowBadOption("pocket_max_area_m2", pocket_max_area_m2, "must be finite and >= 0 (0: off)");
   }
   if (!(goal_snap_m >= 0.0) || !std::isfinite(goal_snap_m)) {
     ThrowBadOption("goal_snap_m", goal_snap_m, "must be finite and >= 0");
@@ -142,6 +148,18 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     }
   }
   if (!frontiers.empty()) planner_.Search(costmap, robot_cell, wait_for, &tree_);
+  std::vector<double> bordered_unknown_m2(frontiers.size(), 0.0);
+  if (options_.pocket_max_area_m2 > 0.0) {
+    const Costmap* passable = &costmap;
+    if (!options_.costmap.unknown_passable) {
+      CostmapOptions unknown_passable = options_.costmap;
+      unknown_passable.unknown_passable = true;
+      pocket_costmap_.Update(map, unknown_passable);
+      passable = &pocket_costmap_;
+    }
+    bordered_unknown_m2 =
+        BorderedUnknownAreasM2(map, *passable, frontiers, options_.pocket_max_area_m2);
+  }
 
   // U1 base: the graph with D-optimality weights, factorized once.
   WeightedGraph base;
@@ -169,6 +187,9 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     s.frontier_id = frontier.id;
     s.target_m = frontier.target_m;
     s.distance_m = CellDistance(robot_cell, target_cells[i]) * map.resolution_m();
+    s.bordered_unknown_m2 = bordered_unknown_m2[i];
+    s.pocket =
+        options_.pocket_max_area_m2 > 0.0 && s.bordered_unknown_m2 < options_.pocket_max_area_m2;
 
     std::optional<GlobalPath> path;
     // A target the planner can enter but not reach needs its snap candidates only now.
@@ -186,6 +207,8 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
       s.eligibility = Eligibility::kUnreachable;
     } else if (Blacklisted(frontier.target_m, blacklist_m, options_.blacklist_radius_m)) {
       s.eligibility = Eligibility::kBlacklisted;
+    } else if (s.pocket) {
+      s.eligibility = Eligibility::kPocket;
     } else if (options_.max_path_length_m > 0.0 && s.path_length_m > options_.max_path_length_m) {
       s.eligibility = Eligibility::kTooFar;
     }
@@ -213,24 +236,26 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     }
 
     s.total = kMinusInf;
-    if (s.eligible()) Consider(i, &decision);
+    if (s.eligible()) Consider(i, /*nearest_first=*/false, &decision);
   }
-  // The length limit steers the choice and never ends exploration: frontiers past it are
-  // chosen from only when no nearer one is eligible.
-  const bool only_far_ones = decision.num_eligible == 0;
-  for (std::size_t i = 0; i < frontiers.size(); ++i) {
-    if (!only_far_ones || decision.scores[i].eligibility != Eligibility::kTooFar) continue;
-    decision.scores[i].eligibility = Eligibility::kEligible;
-    Consider(i, &decision);
+  // Neither the length limit nor pockets ever end exploration: frontiers past the limit are
+  // chosen from only when no nearer one is eligible, pockets (nearest first) after them.
+  for (const Eligibility deferred : {Eligibility::kTooFar, Eligibility::kPocket}) {
+    if (decision.num_eligible > 0) break;
+    for (std::size_t i = 0; i < frontiers.size(); ++i) {
+      if (decision.scores[i].eligibility != deferred) continue;
+      decision.scores[i].eligibility = Eligibility::kEligible;
+      Consider(i, /*nearest_first=*/deferred == Eligibility::kPocket, &decision);
+    }
   }
   if (decision.has_goal()) decision.scores[decision.chosen_index].chosen = true;
   if (incremental) decision.cached_solves = incremental->cached_solves();
   return decision;
 }
 
-void GoalSelector::Consider(std::size_t index, GoalDecision* decision) const {
+void GoalSelector::Consider(std::size_t index, bool nearest_first, GoalDecision* decision) const {
   FrontierScore& s = decision->scores[index];
-  switch (options_.method) {
+  switch (nearest_first ? UtilityMethod::kFd : options_.method) {
     case UtilityMethod::kFd: s.total = -s.path_length_m; break;
     case UtilityMethod::kAgs: s.total = s.u1; break;
     case UtilityMethod::kOurs: s.total = s.u1 + s.u2; break;

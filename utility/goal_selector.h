@@ -8,6 +8,9 @@
 //                within blacklist_radius_m of a reached or failed goal, or its
 //                planned path is longer than max_path_length_m (0: no limit) while
 //                a frontier nearer than that is eligible
+//   pockets      with pocket_max_area_m2 > 0 (ours), a frontier whose unknown is an
+//                enclosed pocket smaller than that (unknown_pockets.h) is chosen from
+//                only when nothing else is eligible, and then nearest first
 //   fd           total = -path length: the nearest eligible frontier by path
 //   ags          total = U1 (spanning trees of the graph extended by the
 //                hallucinated path to the frontier)
@@ -48,7 +51,8 @@ enum class Eligibility {
   kTooClose = 1,
   kUnreachable = 2,
   kBlacklisted = 3,
-  kTooFar = 4
+  kTooFar = 4,
+  kPocket = 5
 };
 const char* EligibilityName(Eligibility eligibility);
 
@@ -60,6 +64,9 @@ struct GoalSelectorOptions {
   // Longer planned paths are ineligible while a shorter one is eligible; 0 = no limit.
   double max_path_length_m = 0.0;
   double blacklist_radius_m = 0.5;  // targets this close to a reached/failed goal are ineligible
+  // Frontiers onto an enclosed unknown pocket smaller than this wait until nothing else is
+  // eligible, then go nearest first; 0 = off (what fd and ags always use).
+  double pocket_max_area_m2 = 0.0;
   // A target the planner cannot enter (e.g. in the inflated zone) is planned
   // to the reachable cell nearest to it within this distance, as the navigator does.
   double goal_snap_m = 0.5;
@@ -86,6 +93,12 @@ struct FrontierScore {
   double u1 = 0.0;
   double u2 = 0.0;
   double total = 0.0;  // -inf when ineligible
+  // The enclosed unknown the frontier borders (unknown_pockets.h); +inf: open. 0 when
+  // pocket_max_area_m2 is 0.
+  double bordered_unknown_m2 = 0.0;
+  // Borders a pocket (bordered_unknown_m2 < pocket_max_area_m2): deferred, or scored
+  // nearest first when only pockets are left.
+  bool pocket = false;
   Eligibility eligibility = Eligibility::kEligible;
   bool chosen = false;
   // Diagnostics of the hallucinated extension (ags, ours).
@@ -135,13 +148,17 @@ class GoalSelector {
   const GoalSelectorOptions& options() const { return options_; }
 
  private:
-  // Gives an eligible score its method's total and chooses it if it beats the chosen one.
-  void Consider(std::size_t index, GoalDecision* decision) const;
+  // Gives an eligible score its method's total (or, `nearest_first`, fd's) and chooses it
+  // if it beats the chosen one.
+  void Consider(std::size_t index, bool nearest_first, GoalDecision* decision) const;
 
   GoalSelectorOptions options_;
   GlobalPlanner planner_;
   // Reused across decisions: no allocation per decision on a same-size map.
   Costmap costmap_;
+  // Pockets are measured where the robot could be once the unknown is known: with
+  // costmap.unknown_passable false, on this copy of costmap_ with it true.
+  Costmap pocket_costmap_;
   ShortestPathTree tree_;
 };
 

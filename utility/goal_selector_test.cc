@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace aslam {
@@ -379,6 +380,71 @@ TEST(GoalSelectorOurs, PathEntropyDecidesWhereU1Ties) {
   EXPECT_EQ(ours.chosen().frontier_id, 1);
 }
 
+// The corridor of PathEntropyDecidesWhereU1Ties, where ours takes A (west) over B (east),
+// with frontiers of cells that border the unknown ends. Each end shut off from the map's
+// edge makes it an enclosed pocket of under 1.6 m^2.
+TEST(GoalSelectorOurs, PocketsWaitUntilNothingElseIsLeftThenGoNearestFirst) {
+  OccupancyGrid map = Corridor();
+  map.at({38, 20}) = OccupancyGrid::kUnknown;
+  map.at({39, 20}) = OccupancyGrid::kUnknown;
+  std::vector<Point2d> positions;
+  for (int k = 0; k < 10; ++k) positions.push_back({3.15 + 0.1 * k, 2.05});
+  const PoseGraph graph = Chain(positions);
+  auto frontier_along = [](int id, int col, Point2d target_m) {
+    Frontier f = MakeFrontier(id, target_m);
+    f.points_m.clear();
+    for (int row = 13; row <= 26; ++row) f.points_m.push_back(Center(col, row));
+    return f;
+  };
+  const std::vector<Frontier> frontiers = {frontier_along(1, 10, kWest),
+                                           frontier_along(2, 70, kEast)};
+  GoalSelectorOptions options = Options(UtilityMethod::kOurs);
+  const GoalDecision off = Decide(options, map, kCorridorRobot, frontiers, {}, graph);
+  ASSERT_TRUE(off.has_goal());
+  EXPECT_EQ(off.chosen().frontier_id, 1);
+  EXPECT_FALSE(off.scores[0].pocket);
+  EXPECT_EQ(off.scores[0].bordered_unknown_m2, 0.0);  // not measured while off
+
+  // The west end shut: a pocket, left while the open east end is eligible.
+  options.pocket_max_area_m2 = 4.0;
+  Fill(&map, 0, 12, 0, 27, OccupancyGrid::kOccupied);
+  const GoalDecision west_shut = Decide(options, map, kCorridorRobot, frontiers, {}, graph);
+  const FrontierScore& west = west_shut.scores[0];
+  EXPECT_TRUE(west.pocket);
+  EXPECT_GT(west.bordered_unknown_m2, 0.0);
+  EXPECT_LT(west.bordered_unknown_m2, 1.6);
+  EXPECT_EQ(west.eligibility, Eligibility::kPocket);
+  EXPECT_EQ(west.total, -std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isinf(west_shut.scores[1].bordered_unknown_m2));
+  EXPECT_FALSE(west_shut.scores[1].pocket);
+  ASSERT_TRUE(west_shut.has_goal());
+  EXPECT_EQ(west_shut.chosen().frontier_id, 2);
+  EXPECT_EQ(west_shut.num_eligible, 1);
+  // Planning only through known cells measures the same pockets.
+  GoalSelectorOptions known_only = options;
+  known_only.costmap.unknown_passable = false;
+  const GoalDecision known = Decide(known_only, map, kCorridorRobot, frontiers, {}, graph);
+  EXPECT_EQ(known.scores[0].bordered_unknown_m2, west.bordered_unknown_m2);
+  EXPECT_TRUE(std::isinf(known.scores[1].bordered_unknown_m2));
+
+  // Both ends shut: only pockets, chosen from nearest first (B's path is the shorter),
+  // not by U1 + U2 (which prefers A).
+  Fill(&map, 80, 12, 80, 27, OccupancyGrid::kOccupied);
+  const GoalDecision both_shut = Decide(options, map, kCorridorRobot, frontiers, {}, graph);
+  ASSERT_TRUE(both_shut.has_goal());
+  EXPECT_EQ(both_shut.num_eligible, 2);
+  EXPECT_EQ(both_shut.chosen().frontier_id, 2);
+  EXPECT_TRUE(both_shut.chosen().pocket);
+  EXPECT_LT(both_shut.scores[1].path_length_m, both_shut.scores[0].path_length_m);
+  for (const FrontierScore& s : both_shut.scores) {
+    EXPECT_EQ(s.eligibility, Eligibility::kEligible);
+    EXPECT_DOUBLE_EQ(s.total, -s.path_length_m);
+  }
+  // The same map with pockets off: ours' own score still takes A.
+  options.pocket_max_area_m2 = 0.0;
+  EXPECT_EQ(Decide(options, map, kCorridorRobot, frontiers, {}, graph).chosen().frontier_id, 1);
+}
+
 TEST(GoalSelector, IsConnected) {
   WeightedGraph g;
   g.num_nodes = 3;
@@ -400,6 +466,14 @@ TEST(GoalSelector, MethodNamesAndBadOptions) {
   GoalSelectorOptions bad;
   bad.blacklist_radius_m = -1.0;
   EXPECT_THROW(GoalSelector{bad}, std::invalid_argument);
+  GoalSelectorOptions bad_pocket;
+  bad_pocket.pocket_max_area_m2 = -0.5;
+  try {
+    GoalSelector{bad_pocket};
+    ADD_FAILURE() << "a negative pocket_max_area_m2 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pocket_max_area_m2"), std::string::npos) << e.what();
+  }
 }
 
 TEST(GoalSelectorTest, PointsToRetryForgiveOnlyWhatBlocksABlacklistedFrontierOnce) {

@@ -55,6 +55,7 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
   u.Read("return_home", &options.return_home);
   u.Read("ours_keeps_vanished_goal", &options.ours_keeps_vanished_goal);
+  u.ReadInRange("ours_pocket_max_area_m2", &options.ours_pocket_max_area_m2, 0.0, 1e6);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 
@@ -67,6 +68,13 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
     throw ConfigError(u.file() + ": section " + section + ": " + e.what());
   }
   return options;
+}
+
+GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options) {
+  GoalSelectorOptions selector = options.selector;
+  selector.pocket_max_area_m2 =
+      selector.method == UtilityMethod::kOurs ? options.ours_pocket_max_area_m2 : 0.0;
+  return selector;
 }
 
 UtilityOptions LoadUtilityOptionsFromFile(const std::string& file) {

@@ -23,7 +23,12 @@ struct UtilityOptions {
   // ours drives on to a goal whose frontier vanished while its target is reachable, and
   // decides again when the goal ends; fd and ags decide again at once (docs/architecture.md §9).
   bool ours_keeps_vanished_goal = true;
+  // ours' selector.pocket_max_area_m2 (goal_selector.h); fd and ags always use 0.
+  double ours_pocket_max_area_m2 = 4.0;
 };
+
+// The selector's options as the configured method uses them (ours' own options applied).
+GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options);
 
 // Reads and validates the `utility` section, planning as `nav` does; throws
 // ConfigError naming file, key and value.

@@ -42,6 +42,9 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(shipped.done_timeout_s, defaults.done_timeout_s);
   EXPECT_TRUE(shipped.ours_keeps_vanished_goal);
   EXPECT_EQ(shipped.ours_keeps_vanished_goal, defaults.ours_keeps_vanished_goal);
+  EXPECT_DOUBLE_EQ(shipped.ours_pocket_max_area_m2, defaults.ours_pocket_max_area_m2);
+  EXPECT_GT(shipped.ours_pocket_max_area_m2, 0.0);
+  EXPECT_EQ(s.pocket_max_area_m2, 0.0);  // the method's selector gets it (below)
   EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, d.costmap.robot_radius_m);
   EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, d.costmap.inflation_margin_m);
   EXPECT_DOUBLE_EQ(s.costmap.cost_scaling_per_m, d.costmap.cost_scaling_per_m);
@@ -117,12 +120,26 @@ TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
   EXPECT_DOUBLE_EQ(fd.selector.blacklist_radius_m, 1.0);
   EXPECT_DOUBLE_EQ(fd.done_timeout_s, 3.0);
   EXPECT_FALSE(fd.ours_keeps_vanished_goal);
+  EXPECT_EQ(SelectorOptionsForMethod(fd).pocket_max_area_m2, 0.0);
   const UtilityOptions ags = Load(
       "utility:\n  method: ags\n  distance_unit: cells\n"
       "  hallucination: {exclude_newest_nodes: 5}\n");
   EXPECT_EQ(ags.selector.method, UtilityMethod::kAgs);
   EXPECT_EQ(ags.selector.path_entropy.distance_unit, DistanceUnit::kCells);
   EXPECT_EQ(ags.selector.hallucination.exclude_newest_nodes, 5);
+}
+
+TEST(UtilityConfig, OnlyOursDefersPockets) {
+  const UtilityOptions ours = Load("utility:\n  method: ours\n  ours_pocket_max_area_m2: 2.5\n");
+  EXPECT_DOUBLE_EQ(ours.ours_pocket_max_area_m2, 2.5);
+  EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).pocket_max_area_m2, 2.5);
+  for (const char* other : {"fd", "ags"}) {
+    const UtilityOptions o =
+        Load(std::string("utility:\n  method: ") + other + "\n  ours_pocket_max_area_m2: 2.5\n");
+    EXPECT_EQ(SelectorOptionsForMethod(o).pocket_max_area_m2, 0.0) << other;
+  }
+  EXPECT_THAT(ErrorOf("utility:\n  ours_pocket_max_area_m2: -1\n"),
+              AllOf(HasSubstr("utility.ours_pocket_max_area_m2"), HasSubstr("'-1'")));
 }
 
 TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {

@@ -46,7 +46,7 @@ std::optional<std::vector<FrontierScore>> FrontierScoresFromLcm(const utility_sc
   scores.reserve(msg.scores.size());
   for (const frontier_score_t& m : msg.scores) {
     if (m.ineligible_reason < static_cast<int8_t>(Eligibility::kEligible) ||
-        m.ineligible_reason > static_cast<int8_t>(Eligibility::kTooFar)) {
+        m.ineligible_reason > static_cast<int8_t>(Eligibility::kPocket)) {
       return std::nullopt;
     }
     FrontierScore s;

@@ -19,7 +19,7 @@ namespace aslam {
 
 UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
     : lcm_(lcm),
-      selector_(options.selector),
+      selector_(SelectorOptionsForMethod(options)),
       manager_(ExplorationOptions{
           options.selector.method, options.done_timeout_s, options.return_home,
           options.ours_keeps_vanished_goal && options.selector.method == UtilityMethod::kOurs}),

@@ -91,6 +91,9 @@ class Bench {
     UtilityOptions options;
     options.selector.method = method;
     options.done_timeout_s = done_timeout_s;
+    // The benches' frontiers are single cells in known space: to ours every one would be a
+    // pocket, chosen nearest first (goal_selector_test.cc tests pockets).
+    options.ours_pocket_max_area_m2 = 0.0;
     return options;
   }
 
