@@ -342,6 +342,20 @@ TEST(GoalSelectorAgs, PathPastOldNodesInClutterGetsClosuresAndAHigherU1) {
   for (const FrontierScore& s : ours.scores) EXPECT_DOUBLE_EQ(s.total, s.u1 + s.u2);
 }
 
+// The corridor with two unknown cells on the ray to kWest (columns 38, 39), and a 10-node
+// graph near the robot whose newest nodes leave no closure candidates.
+OccupancyGrid CorridorWithUnknownOnARay() {
+  OccupancyGrid map = Corridor();
+  map.at({38, 20}) = OccupancyGrid::kUnknown;
+  map.at({39, 20}) = OccupancyGrid::kUnknown;
+  return map;
+}
+PoseGraph GraphNearTheCorridorRobot() {
+  std::vector<Point2d> positions;
+  for (int k = 0; k < 10; ++k) positions.push_back({3.15 + 0.1 * k, 2.05});
+  return Chain(positions);
+}
+
 TEST(GoalSelectorOurs, PathEntropyDecidesWhereU1Ties) {
   // The corridor with a 10-node graph near the robot (no closure candidates:
   // all among the newest 20), so A and B hallucinate mirror-image chains and
@@ -352,12 +366,8 @@ TEST(GoalSelectorOurs, PathEntropyDecidesWhereU1Ties) {
   //   U2(A) - U2(B) = ρ · 2 (h(0.45) - h(0.1)) / 26 = ρ · 0.04029068156911746
   // The planner skirts the two cells diagonally (3.83 < 4.19 in cost), so A's
   // path is ~0.08 m longer: ags, seeing a tie, takes the shorter B; ours takes A.
-  OccupancyGrid map = Corridor();
-  map.at({38, 20}) = OccupancyGrid::kUnknown;
-  map.at({39, 20}) = OccupancyGrid::kUnknown;
-  std::vector<Point2d> positions;
-  for (int k = 0; k < 10; ++k) positions.push_back({3.15 + 0.1 * k, 2.05});
-  const PoseGraph graph = Chain(positions);
+  const OccupancyGrid map = CorridorWithUnknownOnARay();
+  const PoseGraph graph = GraphNearTheCorridorRobot();
   const std::vector<Frontier> frontiers = {MakeFrontier(1, kWest), MakeFrontier(2, kEast)};
 
   const GoalDecision ags =
@@ -384,12 +394,8 @@ TEST(GoalSelectorOurs, PathEntropyDecidesWhereU1Ties) {
 // with frontiers of cells that border the unknown ends. Each end shut off from the map's
 // edge makes it an enclosed pocket of under 1.6 m^2.
 TEST(GoalSelectorOurs, PocketsWaitUntilNothingElseIsLeftThenGoNearestFirst) {
-  OccupancyGrid map = Corridor();
-  map.at({38, 20}) = OccupancyGrid::kUnknown;
-  map.at({39, 20}) = OccupancyGrid::kUnknown;
-  std::vector<Point2d> positions;
-  for (int k = 0; k < 10; ++k) positions.push_back({3.15 + 0.1 * k, 2.05});
-  const PoseGraph graph = Chain(positions);
+  OccupancyGrid map = CorridorWithUnknownOnARay();
+  const PoseGraph graph = GraphNearTheCorridorRobot();
   auto frontier_along = [](int id, int col, Point2d target_m) {
     Frontier f = MakeFrontier(id, target_m);
     f.points_m.clear();

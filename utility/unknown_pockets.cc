@@ -16,8 +16,9 @@ bool Enterable(const Costmap& costmap, CellIndex cell) {
 
 // Labels every unknown cell of `seed`'s region (up to `cap_cells` of them) with `label` in
 // `labels`; returns the region's cell count, or -1 when it is open.
-long FillRegion(const OccupancyGrid& map, const Costmap& costmap, CellIndex seed, int32_t label, long cap_cells,
-                const std::vector<double>& region_areas, std::vector<int32_t>* labels) {
+long FillRegion(const OccupancyGrid& map, const Costmap& costmap, CellIndex seed, int32_t label,
+                long cap_cells, const std::vector<double>& region_areas,
+                std::vector<int32_t>* labels) {
   std::vector<CellIndex> stack{seed};
   (*labels)[map.LinearIndex(seed)] = label;
   long count = 0;

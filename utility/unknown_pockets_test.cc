@@ -18,7 +18,9 @@ void Fill(OccupancyGrid* map, int col0, int row0, int col1, int row1, int8_t val
 
 Frontier FrontierAt(const std::vector<CellIndex>& cells) {
   Frontier f;
-  for (const CellIndex& c : cells) f.points_m.push_back({(c.col + 0.5) * kRes, (c.row + 0.5) * kRes});
+  for (const CellIndex& c : cells) {
+    f.points_m.push_back({(c.col + 0.5) * kRes, (c.row + 0.5) * kRes});
+  }
   f.target_m = f.points_m.front();
   return f;
 }
@@ -45,8 +47,7 @@ TEST(UnknownPockets, AnEnclosedRegionIsMeasuredAndALargeOrUnboundedOneIsOpen) {
   const Frontier beside_square = FrontierAt({{7, 10}, {7, 11}, {7, 12}});
   const Frontier in_the_door = FrontierAt({{29, 18}, {29, 19}, {29, 20}});
   const Frontier touching_nothing = FrontierAt({{3, 30}});
-  const std::vector<double> areas =
-      Areas(map, {beside_square, in_the_door, touching_nothing}, 4.0);
+  const std::vector<double> areas = Areas(map, {beside_square, in_the_door, touching_nothing}, 4.0);
   ASSERT_EQ(areas.size(), 3u);
   EXPECT_NEAR(areas[0], 100 * kRes * kRes, 1e-9);  // the square, every cell of it
   EXPECT_TRUE(std::isinf(areas[1]));               // through the door to the map's edge
