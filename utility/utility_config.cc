@@ -77,6 +77,12 @@ GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options) {
   return selector;
 }
 
+ExplorationOptions ExplorationOptionsForMethod(const UtilityOptions& options) {
+  const UtilityMethod method = options.selector.method;
+  return ExplorationOptions{method, options.done_timeout_s, options.return_home,
+                            options.ours_keeps_vanished_goal && method == UtilityMethod::kOurs};
+}
+
 UtilityOptions LoadUtilityOptionsFromFile(const std::string& file) {
   const NavOptions nav = LoadNavOptionsFromFile(file);
   return LoadUtilityOptions(ConfigReader::FromOptionalFile(file, "utility"), nav);

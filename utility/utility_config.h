@@ -10,6 +10,7 @@
 
 #include "common/config.h"
 #include "navigation/nav_config.h"
+#include "utility/exploration_manager.h"
 #include "utility/goal_selector.h"
 
 namespace aslam {
@@ -27,8 +28,10 @@ struct UtilityOptions {
   double ours_pocket_max_area_m2 = 4.0;
 };
 
-// The selector's options as the configured method uses them (ours' own options applied).
+// The selector's and the manager's options as the configured method uses them: ours' own
+// options (ours_*) apply to ours only.
 GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options);
+ExplorationOptions ExplorationOptionsForMethod(const UtilityOptions& options);
 
 // Reads and validates the `utility` section, planning as `nav` does; throws
 // ConfigError naming file, key and value.

@@ -20,9 +20,7 @@ namespace aslam {
 UtilityNode::UtilityNode(lcm::LCM& lcm, UtilityOptions options)
     : lcm_(lcm),
       selector_(SelectorOptionsForMethod(options)),
-      manager_(ExplorationOptions{
-          options.selector.method, options.done_timeout_s, options.return_home,
-          options.ours_keeps_vanished_goal && options.selector.method == UtilityMethod::kOurs}),
+      manager_(ExplorationOptionsForMethod(options)),
       subscriptions_(lcm) {
   AddMapSubscription(subscriptions_, channels::kSlamMap,
                      [this](MapMessage m) { return OnMap(std::move(m)); });
