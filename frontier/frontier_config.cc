@@ -12,6 +12,7 @@ FrontierOptions LoadFrontierOptions(const ConfigReader& c, const NavOptions& nav
   c.ReadInRange("min_size_m", &o.min_size_m, 0.0, 100.0);
   c.ReadInRange("max_segment_length_m", &o.max_segment_length_m, 0.05, 1000.0);
   c.ReadInRange("target_radius_m", &o.target_radius_m, 0.0, 100.0);
+  c.ReadInRange("target_clearance_m", &o.target_clearance_m, 0.0, 10.0);
   c.ReadInRange("match_distance_m", &o.match_distance_m, 0.0, 100.0);
   c.CheckAllKeysUsed();
 

@@ -28,6 +28,7 @@ TEST(FrontierConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(shipped.min_size_m, defaults.min_size_m);
   EXPECT_DOUBLE_EQ(shipped.max_segment_length_m, defaults.max_segment_length_m);
   EXPECT_DOUBLE_EQ(shipped.target_radius_m, defaults.target_radius_m);
+  EXPECT_DOUBLE_EQ(shipped.target_clearance_m, defaults.target_clearance_m);
   EXPECT_DOUBLE_EQ(shipped.match_distance_m, defaults.match_distance_m);
   EXPECT_DOUBLE_EQ(shipped.costmap.robot_radius_m, 0.2);
   EXPECT_DOUBLE_EQ(shipped.costmap.clearance_margin_m, defaults.costmap.clearance_margin_m);
@@ -63,13 +64,14 @@ TEST(FrontierConfig, ReadsEveryKey) {
   const FrontierOptions o = LoadFrontierOptions(
       ConfigReader::FromString(
           "frontier:\n  free_threshold: 10\n  min_size_m: 0.3\n  max_segment_length_m: 3.0\n"
-          "  target_radius_m: 0.5\n  match_distance_m: 0.7\n",
+          "  target_radius_m: 0.5\n  target_clearance_m: 0.1\n  match_distance_m: 0.7\n",
           "frontier"),
       NavOptions{});
   EXPECT_EQ(o.free_threshold, 10);
   EXPECT_DOUBLE_EQ(o.min_size_m, 0.3);
   EXPECT_DOUBLE_EQ(o.max_segment_length_m, 3.0);
   EXPECT_DOUBLE_EQ(o.target_radius_m, 0.5);
+  EXPECT_DOUBLE_EQ(o.target_clearance_m, 0.1);
   EXPECT_DOUBLE_EQ(o.match_distance_m, 0.7);
 }
 
@@ -81,6 +83,8 @@ TEST(FrontierConfig, EmptyFileNameGivesDefaults) {
 TEST(FrontierConfig, BadValuesNameFileKeyAndValue) {
   EXPECT_THAT(ErrorOf("frontier:\n  min_size_m: -1\n"),
               AllOf(HasSubstr("test.yaml:2"), HasSubstr("frontier.min_size_m"), HasSubstr("'-1'")));
+  EXPECT_THAT(ErrorOf("frontier:\n  target_clearance_m: -0.1\n"),
+              AllOf(HasSubstr("frontier.target_clearance_m"), HasSubstr("'-0.1'")));
   EXPECT_THAT(ErrorOf("frontier:\n  max_segment_m: 2\n"),
               AllOf(HasSubstr("frontier.max_segment_m"), HasSubstr("unknown key")));
   // The costmap, planner and robot radius are nav's and the robot's: here they are typos.

@@ -13,6 +13,8 @@
 #include <tuple>
 #include <utility>
 
+#include <opencv2/imgproc.hpp>
+
 namespace aslam {
 namespace {
 
@@ -138,15 +140,16 @@ std::vector<CellIndex> OffsetsNearestFirst(int reach) {
   return offsets;
 }
 
-// The reachable cell nearest the centroid among the segment's cells and the
-// known-free cells within radius of the centroid that see the segment's cell
-// nearest the centroid over known free space (so a target is never across a
-// wall from its frontier); nullopt when there is none. Of equally near cells the
-// segment's first wins, then the first in raster order.
-std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCells& reachability,
-                                    const std::vector<CellIndex>& segment, Point2d centroid_m,
-                                    const FrontierOptions& options,
-                                    std::vector<CellIndex>* offsets_nearest_first) {
+// The reachable cell nearest the centroid that `accept` takes, among the segment's cells and
+// the known-free cells within radius of the centroid that see the segment's cell nearest the
+// centroid over known free space (so a target is never across a wall from its frontier);
+// nullopt when there is none. Of equally near cells the segment's first wins, then the first
+// in raster order.
+template <typename Accept>
+std::optional<CellIndex> NearestTarget(const OccupancyGrid& map, const ReachableCells& reachability,
+                                       const std::vector<CellIndex>& segment, Point2d centroid_m,
+                                       const FrontierOptions& options, const Accept& accept,
+                                       std::vector<CellIndex>* offsets_nearest_first) {
   auto distance2 = [&](CellIndex cell) {
     const Point2d p = map.CellCenter(cell);
     return (p.x_m - centroid_m.x_m) * (p.x_m - centroid_m.x_m) +
@@ -162,7 +165,7 @@ std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCel
       anchor = cell;
       anchor_d2 = d2;
     }
-    if (d2 < best_d2 && reachability.Reachable(cell)) {
+    if (d2 < best_d2 && reachability.Reachable(cell) && accept(cell)) {
       best = cell;
       best_d2 = d2;
     }
@@ -199,7 +202,7 @@ std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCel
                              std::tie(cell.row, cell.col) < std::tie(best->row, best->col);
     if (!(d2 < best_d2 || earlier_tie) || std::sqrt(d2) > radius_m) continue;
     if (!IsKnownFree(map.at(cell), options.free_threshold) || !reachability.Reachable(cell) ||
-        !ClearLine(map, cell, anchor, options.free_threshold)) {
+        !accept(cell) || !ClearLine(map, cell, anchor, options.free_threshold)) {
       continue;
     }
     best = cell;
@@ -207,6 +210,30 @@ std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCel
     best_in_window = true;
   }
   return best;
+}
+
+// Step 4's target: the nearest cell with room to stand (see the header), else the nearest.
+std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCells& reachability,
+                                    const std::vector<CellIndex>& segment, Point2d centroid_m,
+                                    const FrontierOptions& options, const cv::Mat& free_distance,
+                                    std::vector<CellIndex>* offsets_nearest_first) {
+  if (!free_distance.empty()) {
+    // Centre to the nearest not-known-free cell's edge, as the costmap's clearance is measured.
+    const double resolution_m = map.resolution_m();
+    const double room_m = options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
+                          options.target_clearance_m;
+    auto has_room = [&](CellIndex cell) {
+      return free_distance.at<float>(cell.row, cell.col) * resolution_m - 0.5 * resolution_m >=
+             room_m;
+    };
+    if (std::optional<CellIndex> roomy = NearestTarget(map, reachability, segment, centroid_m,
+                                                       options, has_room, offsets_nearest_first)) {
+      return roomy;
+    }
+  }
+  return NearestTarget(
+      map, reachability, segment, centroid_m, options, [](CellIndex) { return true; },
+      offsets_nearest_first);
 }
 
 }  // namespace
@@ -308,6 +335,7 @@ void FrontierOptions::Validate() const {
     ThrowBadOption("max_segment_length_m", max_segment_length_m, "must be finite and > 0");
   }
   CheckNonNegative("target_radius_m", target_radius_m);
+  CheckNonNegative("target_clearance_m", target_clearance_m);
   CheckNonNegative("match_distance_m", match_distance_m);
   costmap.Validate();
   global_planner.Validate();
@@ -458,6 +486,19 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   m.reachable.Compute(m.costmap, map.WorldToCell(robot_m), options.global_planner);
   const ReachableCells& reachability = m.reachable;
   s.used_planner_search = reachability.used_planner_search();
+  if (options.target_clearance_m > 0.0) {
+    // Each cell's distance (cells, centre to centre) to the nearest cell that is not known free.
+    m.known_free.create(map.height_cells(), map.width_cells(), CV_8U);
+    for (int row = 0; row < map.height_cells(); ++row) {
+      uint8_t* line = m.known_free.ptr<uint8_t>(row);
+      for (int col = 0; col < map.width_cells(); ++col) {
+        line[col] = IsKnownFree(map.at({col, row}), options.free_threshold) ? 255 : 0;
+      }
+    }
+    cv::distanceTransform(m.known_free, m.free_distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  } else {
+    m.free_distance.release();
+  }
   for (std::vector<CellIndex>& segment : segments) {
     Frontier frontier;
     frontier.id = -1;
@@ -472,7 +513,8 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
     const double n = static_cast<double>(segment.size());
     frontier.centroid_m = {sum_x / n, sum_y / n};
     const std::optional<CellIndex> target =
-        FindTarget(map, reachability, segment, frontier.centroid_m, options, &m.target_offsets);
+        FindTarget(map, reachability, segment, frontier.centroid_m, options, m.free_distance,
+                   &m.target_offsets);
     if (!target) {
       ++s.segments_unreachable;
       continue;

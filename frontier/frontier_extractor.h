@@ -22,9 +22,16 @@
 //    cells and the known-free cells within target_radius_m of the centroid
 //    whose Bresenham line to the segment's cell nearest the centroid is all
 //    known free (a place that looks at the frontier, never one across a wall
-//    from it). A segment without one is dropped: frontier_t has no
-//    "unreachable" flag and every published target must be a goal the
-//    navigator can plan to.
+//    from it). Cells with room to stand come first: those whose clearance
+//    (centre to the nearest edge of a cell that is not known free: an obstacle,
+//    the unknown, an uncertain cell) is at least the robot's inscribed radius
+//    (robot_radius_m + clearance_margin_m) + target_clearance_m; only when
+//    there is none does the nearest traversable cell serve. A target pressed
+//    into a nook between furniture and an unseen wall is where scan returns
+//    the map does not hold (legs, ragged edges) shut the robot out; the lidar
+//    sees the frontier as well from a step back. A segment without any target
+//    is dropped: frontier_t has no "unreachable" flag and every published
+//    target must be a goal the navigator can plan to.
 // 5. Ids: greedy one-to-one matching of new segments to the previous call's
 //    frontiers by centroid distance (closest pairs first, within
 //    match_distance_m); unmatched segments get fresh ids, never reused.
@@ -62,6 +69,8 @@ struct FrontierOptions {
   double min_size_m = 0.5;  // clusters with fewer than this / resolution cells are dropped
   double max_segment_length_m = 2.5;  // longer clusters are cut into equal pieces
   double target_radius_m = 1.0;       // target search around the centroid (besides the segment)
+  double target_clearance_m = 0.15;   // targets with this much room beyond the inscribed radius
+                                      // come first (step 4); 0: the nearest traversable cell
   double match_distance_m = 1.0;      // centroids this close keep the previous frontier's id
   // The navigator's own costmap options (nav.costmap with the robot's radius), so
   // "reachable" means the navigator will plan there.
@@ -121,6 +130,7 @@ struct FrontierScratch {
   Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
   std::vector<CellIndex> target_offsets;  // step 4's search window, nearest offsets first
+  cv::Mat known_free, free_distance;      // step 4's room to stand (target_clearance_m)
 };
 
 // What the last extraction found and dropped.

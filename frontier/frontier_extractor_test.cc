@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/world_file.h"
@@ -81,9 +83,19 @@ TEST(FindFrontiers, RoomWithOneDoorwayGivesOneFrontierOfTheDoorwayWidth) {
   }
   EXPECT_NEAR(f.centroid_m.x_m, 49.5 * kRes, 1e-12);
   EXPECT_NEAR(f.centroid_m.y_m, 30.5 * kRes, 1e-12);
-  // The middle door cell is 0.25 m from both jambs (> robot radius): it is the target.
-  EXPECT_NEAR(f.target_m.x_m, 49.5 * kRes, 1e-12);
+  // The middle door cell is 0.25 m from both jambs (> robot radius) but has no room to stand
+  // (0.2 + 0.05 + 0.15 m to a cell's edge, 8.5 cells centre to centre): the target steps back
+  // into the room, to the first cell of the door's row that far from the jambs' corners (48, 24)
+  // and (48, 36): 48 - col >= sqrt(8.5^2 - 6^2) = 6.02, col 41.
+  EXPECT_NEAR(f.target_m.x_m, 41.5 * kRes, 1e-12);
   EXPECT_NEAR(f.target_m.y_m, 30.5 * kRes, 1e-12);
+  // Asked for no room, the middle door cell is the target.
+  FrontierOptions pressed;
+  pressed.target_clearance_m = 0.0;
+  const std::vector<Frontier> at_the_door = FindFrontiers(map, kRoomCentre, pressed);
+  ASSERT_EQ(at_the_door.size(), 1u);
+  EXPECT_NEAR(at_the_door[0].target_m.x_m, 49.5 * kRes, 1e-12);
+  EXPECT_NEAR(at_the_door[0].target_m.y_m, 30.5 * kRes, 1e-12);
   EXPECT_EQ(f.id, -1);  // FindFrontiers leaves ids to AssignFrontierIds
   EXPECT_EQ(stats.frontier_cells, 11);
   EXPECT_EQ(stats.clusters, 1);
@@ -96,18 +108,29 @@ TEST(FindFrontiers, TwoSeparateOpeningsGiveTwoFrontiers) {
   OccupancyGrid map = Room();
   EastDoor(&map, 20, 33);   // 14 cells
   NorthDoor(&map, 15, 26);  // 12 cells
-  const std::vector<Frontier> frontiers = FindFrontiers(map, kRoomCentre, {});
-  ASSERT_EQ(frontiers.size(), 2u);
-  std::vector<int> sizes = {frontiers[0].size_cells(), frontiers[1].size_cells()};
-  std::sort(sizes.begin(), sizes.end());
-  EXPECT_EQ(sizes, (std::vector<int>{12, 14}));
-  for (const Frontier& f : frontiers) {
-    const bool east = f.size_cells() == 14;
-    EXPECT_NEAR(east ? f.centroid_m.x_m : f.centroid_m.y_m, 49.5 * kRes, 1e-12);
-    EXPECT_NEAR(east ? f.centroid_m.y_m : f.centroid_m.x_m, (east ? 27.0 : 21.0) * kRes, 1e-12);
-    EXPECT_LT(Distance(f.target_m, f.centroid_m), 0.05);
+  for (const double target_clearance_m : {0.0, 0.15}) {
+    FrontierOptions options;
+    options.target_clearance_m = target_clearance_m;
+    const std::vector<Frontier> frontiers = FindFrontiers(map, kRoomCentre, options);
+    ASSERT_EQ(frontiers.size(), 2u);
+    std::vector<int> sizes = {frontiers[0].size_cells(), frontiers[1].size_cells()};
+    std::sort(sizes.begin(), sizes.end());
+    EXPECT_EQ(sizes, (std::vector<int>{12, 14}));
+    for (const Frontier& f : frontiers) {
+      const bool east = f.size_cells() == 14;
+      EXPECT_NEAR(east ? f.centroid_m.x_m : f.centroid_m.y_m, 49.5 * kRes, 1e-12);
+      EXPECT_NEAR(east ? f.centroid_m.y_m : f.centroid_m.x_m, (east ? 27.0 : 21.0) * kRes, 1e-12);
+      if (target_clearance_m == 0.0) {
+        EXPECT_LT(Distance(f.target_m, f.centroid_m), 0.05);  // in the doorway
+      } else {
+        // In the room, in front of its doorway: the doorways (0.6 and 0.7 m) have no room.
+        EXPECT_LT(east ? f.target_m.x_m : f.target_m.y_m, 47.5 * kRes);
+        EXPECT_GT(Distance(f.target_m, f.centroid_m), 0.3);
+        EXPECT_LE(Distance(f.target_m, f.centroid_m), options.target_radius_m);
+      }
+    }
+    ExpectTargetsReachable(map, kRoomCentre, frontiers);
   }
-  ExpectTargetsReachable(map, kRoomCentre, frontiers);
 }
 
 TEST(FindFrontiers, LongOpenSideIsSplitIntoCeilLengthOverMaxSegments) {
@@ -230,11 +253,12 @@ TEST(FindFrontiers, UncertainCellsAreNotFreeUnlessTheThresholdSaysSo) {
 TEST(FindFrontiers, TargetOfANarrowDoorwayLiesInTraversableSpaceInside) {
   // A 0.3 m doorway (6 cells): too narrow for the 0.2 m robot radius (plus
   // the 0.05 m clearance margin), so the target is the nearest traversable
-  // free cell inside the room.
+  // free cell inside the room (no cell is asked for more room here).
   OccupancyGrid map = Room();
   EastDoor(&map, 27, 32);
   FrontierOptions options;
   options.min_size_m = 0.3;
+  options.target_clearance_m = 0.0;
   const std::vector<Frontier> frontiers = FindFrontiers(map, kRoomCentre, options);
   ASSERT_EQ(frontiers.size(), 1u);
   const Frontier& f = frontiers[0];
@@ -254,6 +278,48 @@ TEST(FindFrontiers, TargetOfANarrowDoorwayLiesInTraversableSpaceInside) {
   EXPECT_TRUE(FindFrontiers(map, kRoomCentre, options, &stats).empty());
   EXPECT_EQ(stats.segments, 1);
   EXPECT_EQ(stats.segments_unreachable, 1);
+}
+
+// A frontier in a nook: the room's east wall is unseen (unknown) along a 0.6 m gap between two
+// cabinets. Its nearest traversable cells are pressed between the cabinets, where a scan return
+// the map does not hold shuts the robot out; the target steps back into the room, where it has
+// room to stand and still sees the gap.
+TEST(FindFrontiers, TargetOfANookStepsBackToWhereTheRobotHasRoom) {
+  OccupancyGrid map = Room();
+  Fill(&map, 48, 24, 49, 35, kU);  // the unseen stretch of wall
+  Fill(&map, 38, 12, 47, 23, kO);  // cabinets either side of it, 0.5 m deep
+  Fill(&map, 38, 36, 47, 47, kO);
+  FrontierOptions options;
+  options.min_size_m = 0.3;
+  options.target_clearance_m = 0.0;
+  const std::vector<Frontier> pressed = FindFrontiers(map, kRoomCentre, options);
+  ASSERT_EQ(pressed.size(), 1u);
+  options.target_clearance_m = 0.15;
+  const std::vector<Frontier> roomy = FindFrontiers(map, kRoomCentre, options);
+  ASSERT_EQ(roomy.size(), 1u);
+  EXPECT_EQ(roomy[0].size_cells(), pressed[0].size_cells());  // the same frontier
+
+  // Room = clearance from the cell's centre to the nearest edge of a cell that is not known free.
+  auto room_m = [&](Point2d p) {
+    const CellIndex cell = map.WorldToCell(p);
+    double nearest_m = std::numeric_limits<double>::infinity();
+    for (int row = 0; row < map.height_cells(); ++row) {
+      for (int col = 0; col < map.width_cells(); ++col) {
+        if (map.at({col, row}) == kF) continue;
+        nearest_m = std::min(nearest_m, std::hypot(col - cell.col, row - cell.row) * kRes);
+      }
+    }
+    return nearest_m - kRes / 2;
+  };
+  const double inscribed_m = CostmapOptions{}.robot_radius_m + CostmapOptions{}.clearance_margin_m;
+  EXPECT_LT(room_m(pressed[0].target_m), inscribed_m + 0.15);
+  EXPECT_GE(room_m(roomy[0].target_m), inscribed_m + 0.15);
+  // Stepped back, west of the cabinets' faces, and still within the radius of the centroid.
+  EXPECT_LT(roomy[0].target_m.x_m, 38 * kRes);
+  EXPECT_GT(Distance(roomy[0].target_m, roomy[0].centroid_m),
+            Distance(pressed[0].target_m, pressed[0].centroid_m));
+  EXPECT_LE(Distance(roomy[0].target_m, roomy[0].centroid_m), options.target_radius_m);
+  ExpectTargetsReachable(map, kRoomCentre, roomy);
 }
 
 TEST(FindFrontiers, FrontiersTheRobotCannotReachAreDropped) {
@@ -564,12 +630,14 @@ TEST(FindFrontiers, ReusedScratchSplitsOnlyChangedClustersAndGivesTheSameFrontie
   EXPECT_LT(split[3], kept_clusters / 2);  // ...where it is, not everywhere
 }
 
-// Step 4 by brute force, as the header states it: the reachable cell nearest the centroid among
-// the segment's cells (the first of equals) and the known-free reachable cells within the
-// radius whose Bresenham line to the segment's cell nearest the centroid is all known free
-// (strictly nearer than the segment's best; of equals, the first in raster order).
+// The reachable cell nearest the centroid that `accept` takes among the segment's cells (the
+// first of equals) and the known-free reachable cells within the radius whose Bresenham line to
+// the segment's cell nearest the centroid is all known free (strictly nearer than the segment's
+// best; of equals, the first in raster order).
+template <typename Accept>
 std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const ReachableCells& reachable,
-                                          const Frontier& f, double radius_m) {
+                                          const Frontier& f, double radius_m,
+                                          const Accept& accept) {
   auto d2 = [&](CellIndex cell) {
     const Point2d p = map.CellCenter(cell);
     return std::pow(p.x_m - f.centroid_m.x_m, 2) + std::pow(p.y_m - f.centroid_m.y_m, 2);
@@ -591,14 +659,14 @@ std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const Reacha
   std::optional<CellIndex> best;
   for (const CellIndex& cell : f.cells) {
     if (d2(cell) < d2(anchor)) anchor = cell;
-    if (reachable.Reachable(cell) && (!best || d2(cell) < d2(*best))) best = cell;
+    if (reachable.Reachable(cell) && accept(cell) && (!best || d2(cell) < d2(*best))) best = cell;
   }
   std::optional<CellIndex> window_best;
   for (int row = 0; row < map.height_cells(); ++row) {
     for (int col = 0; col < map.width_cells(); ++col) {
       const CellIndex cell{col, row};
       if (std::sqrt(d2(cell)) > radius_m || !known_free(cell) || !reachable.Reachable(cell) ||
-          !clear_line(cell, anchor)) {
+          !accept(cell) || !clear_line(cell, anchor)) {
         continue;
       }
       if (!window_best || d2(cell) < d2(*window_best)) window_best = cell;
@@ -608,23 +676,56 @@ std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const Reacha
   return best;
 }
 
+// Step 4 by brute force, as the header states it: first only the cells with room_m of clearance
+// (centre to edge) to every cell that is not known free, then any (room_m 0: any at once).
+std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const ReachableCells& reachable,
+                                          const Frontier& f, double radius_m, double room_m) {
+  auto has_room = [&](CellIndex cell) {
+    const int reach = static_cast<int>(std::ceil(room_m / kRes)) + 1;
+    for (int row = cell.row - reach; row <= cell.row + reach; ++row) {
+      for (int col = cell.col - reach; col <= cell.col + reach; ++col) {
+        if (!map.Contains({col, row}) || map.at({col, row}) == kF) continue;
+        if (std::hypot(col - cell.col, row - cell.row) * kRes - kRes / 2 < room_m) return false;
+      }
+    }
+    return true;
+  };
+  if (room_m > 0.0) {
+    if (auto roomy = BruteForceTarget(map, reachable, f, radius_m, has_room)) return roomy;
+  }
+  return BruteForceTarget(map, reachable, f, radius_m, [](CellIndex) { return true; });
+}
+
 TEST(FindFrontiers, TargetsAreTheNearestValidCellsFoundByBruteForce) {
   const Point2d robot{Campus().start.x_m, Campus().start.y_m};
-  int checked = 0, off_the_segment = 0;
+  int checked = 0, off_the_segment = 0, with_room = 0;
   double farthest_target_m = 0.0;
-  // A wide robot keeps targets off the walls, far from their centroids.
-  for (const double robot_radius_m : {CostmapOptions{}.robot_radius_m, 0.45}) {
+  // A wide robot keeps targets off the walls, far from their centroids; with no room asked
+  // for, the nearest traversable cell is the target.
+  for (const auto& [robot_radius_m, target_clearance_m] :
+       std::vector<std::pair<double, double>>{{CostmapOptions{}.robot_radius_m, 0.15},
+                                              {CostmapOptions{}.robot_radius_m, 0.0},
+                                              {0.45, 0.15}}) {
     for (const int steps : {150, 400, 900}) {
       const OccupancyGrid map = PartlyExplored(steps);
       FrontierOptions options;
       options.costmap.robot_radius_m = robot_radius_m;
+      options.target_clearance_m = target_clearance_m;
+      const double room_m =
+          target_clearance_m > 0.0
+              ? robot_radius_m + options.costmap.clearance_margin_m + target_clearance_m
+              : 0.0;
       const std::vector<Frontier> frontiers = FindFrontiers(map, robot, options);
       const Costmap costmap(map, options.costmap);
       const ReachableCells reachable(costmap, map.WorldToCell(robot), options.global_planner);
       for (const Frontier& f : frontiers) {
         const std::optional<CellIndex> expected =
-            BruteForceTarget(map, reachable, f, options.target_radius_m);
+            BruteForceTarget(map, reachable, f, options.target_radius_m, room_m);
         ASSERT_TRUE(expected.has_value()) << "frontier " << f.id;
+        if (room_m > 0.0) {
+          with_room += BruteForceTarget(map, reachable, f, options.target_radius_m, room_m) !=
+                       BruteForceTarget(map, reachable, f, options.target_radius_m, 0.0);
+        }
         const CellIndex target = map.WorldToCell(f.target_m);
         EXPECT_EQ(target.col, expected->col) << "steps " << steps << " frontier " << f.id;
         EXPECT_EQ(target.row, expected->row) << "steps " << steps << " frontier " << f.id;
@@ -637,6 +738,7 @@ TEST(FindFrontiers, TargetsAreTheNearestValidCellsFoundByBruteForce) {
     }
   }
   EXPECT_GT(checked, 40);
+  EXPECT_GT(with_room, 0);            // room to stand moved some targets...
   EXPECT_GT(off_the_segment, 0);      // the window search decided some targets...
   EXPECT_GT(farthest_target_m, 0.3);  // ...some of them far from the centroid
 }
