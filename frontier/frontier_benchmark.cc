@@ -38,9 +38,12 @@ const bool kSingleThreaded = (cv::setNumThreads(0), true);
 
 Point2d Start() { return {Campus().start.x_m, Campus().start.y_m}; }
 
+// Argument: frontier.target_clearance_m in cm (0: targets without room to stand, no distance
+// transform).
 void BM_FindFrontiersCampus(benchmark::State& state) {
   const OccupancyGrid& grid = HalfExploredCampus();
-  const FrontierOptions options;
+  FrontierOptions options;
+  options.target_clearance_m = static_cast<double>(state.range(0)) / 100.0;
   FrontierScratch scratch;
   FrontierExtractionStats stats;
   for (auto _ : state) {
@@ -51,7 +54,7 @@ void BM_FindFrontiersCampus(benchmark::State& state) {
   state.counters["frontier_cells"] = stats.frontier_cells;
   state.counters["segments"] = stats.segments;
 }
-BENCHMARK(BM_FindFrontiersCampus)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FindFrontiersCampus)->Arg(0)->Arg(15)->Unit(benchmark::kMillisecond);
 
 void BM_ReachableCellsCampus(benchmark::State& state) {
   const OccupancyGrid& grid = HalfExploredCampus();

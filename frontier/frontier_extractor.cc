@@ -13,8 +13,6 @@
 #include <tuple>
 #include <utility>
 
-#include <opencv2/imgproc.hpp>
-
 namespace aslam {
 namespace {
 
@@ -213,18 +211,21 @@ std::optional<CellIndex> NearestTarget(const OccupancyGrid& map, const Reachable
 }
 
 // Step 4's target: the nearest cell with room to stand (see the header), else the nearest.
+// `room_offsets`: the offsets within the room's reach, nearest first (RoomOffsets).
 std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCells& reachability,
                                     const std::vector<CellIndex>& segment, Point2d centroid_m,
-                                    const FrontierOptions& options, const cv::Mat& free_distance,
+                                    const FrontierOptions& options,
+                                    const std::vector<CellIndex>& room_offsets,
                                     std::vector<CellIndex>* offsets_nearest_first) {
-  if (!free_distance.empty()) {
-    // Centre to the nearest not-known-free cell's edge, as the costmap's clearance is measured.
-    const double resolution_m = map.resolution_m();
-    const double room_m = options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
-                          options.target_clearance_m;
+  if (!room_offsets.empty()) {
     auto has_room = [&](CellIndex cell) {
-      return free_distance.at<float>(cell.row, cell.col) * resolution_m - 0.5 * resolution_m >=
-             room_m;
+      for (const CellIndex& offset : room_offsets) {
+        const CellIndex near{cell.col + offset.col, cell.row + offset.row};
+        if (!map.Contains(near) || !IsKnownFree(map.at(near), options.free_threshold)) {
+          return false;
+        }
+      }
+      return true;
     };
     if (std::optional<CellIndex> roomy = NearestTarget(map, reachability, segment, centroid_m,
                                                        options, has_room, offsets_nearest_first)) {
@@ -234,6 +235,21 @@ std::optional<CellIndex> FindTarget(const OccupancyGrid& map, const ReachableCel
   return NearestTarget(
       map, reachability, segment, centroid_m, options, [](CellIndex) { return true; },
       offsets_nearest_first);
+}
+
+// The offsets o whose cell edge lies within room_m of a cell's centre (|o| * resolution -
+// resolution / 2 < room_m), nearest first: a cell has room to stand when all of them are known
+// free.
+std::vector<CellIndex> RoomOffsets(double room_m, double resolution_m) {
+  std::vector<CellIndex> offsets;
+  const int reach = static_cast<int>(std::ceil(room_m / resolution_m)) + 1;
+  for (const CellIndex& offset : OffsetsNearestFirst(reach)) {
+    const double length_m =
+        std::sqrt(static_cast<double>(offset.col * offset.col + offset.row * offset.row)) *
+        resolution_m;
+    if (length_m - 0.5 * resolution_m < room_m) offsets.push_back(offset);
+  }
+  return offsets;
 }
 
 }  // namespace
@@ -486,18 +502,15 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   m.reachable.Compute(m.costmap, map.WorldToCell(robot_m), options.global_planner);
   const ReachableCells& reachability = m.reachable;
   s.used_planner_search = reachability.used_planner_search();
-  if (options.target_clearance_m > 0.0) {
-    // Each cell's distance (cells, centre to centre) to the nearest cell that is not known free.
-    m.known_free.create(map.height_cells(), map.width_cells(), CV_8U);
-    for (int row = 0; row < map.height_cells(); ++row) {
-      uint8_t* line = m.known_free.ptr<uint8_t>(row);
-      for (int col = 0; col < map.width_cells(); ++col) {
-        line[col] = IsKnownFree(map.at({col, row}), options.free_threshold) ? 255 : 0;
-      }
-    }
-    cv::distanceTransform(m.known_free, m.free_distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  } else {
-    m.free_distance.release();
+  if (options.target_clearance_m <= 0.0) {
+    m.room_offsets.clear();
+  } else if (m.room_resolution_m != map.resolution_m() ||
+             m.room_m != options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
+                             options.target_clearance_m) {
+    m.room_resolution_m = map.resolution_m();
+    m.room_m = options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
+               options.target_clearance_m;
+    m.room_offsets = RoomOffsets(m.room_m, m.room_resolution_m);
   }
   for (std::vector<CellIndex>& segment : segments) {
     Frontier frontier;
@@ -513,7 +526,7 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
     const double n = static_cast<double>(segment.size());
     frontier.centroid_m = {sum_x / n, sum_y / n};
     const std::optional<CellIndex> target =
-        FindTarget(map, reachability, segment, frontier.centroid_m, options, m.free_distance,
+        FindTarget(map, reachability, segment, frontier.centroid_m, options, m.room_offsets,
                    &m.target_offsets);
     if (!target) {
       ++s.segments_unreachable;

@@ -24,7 +24,7 @@
 //    known free (a place that looks at the frontier, never one across a wall
 //    from it). Cells with room to stand come first: those whose clearance
 //    (centre to the nearest edge of a cell that is not known free: an obstacle,
-//    the unknown, an uncertain cell) is at least the robot's inscribed radius
+//    the unknown, an uncertain cell, off the map) is at least the robot's inscribed radius
 //    (robot_radius_m + clearance_margin_m) + target_clearance_m; only when
 //    there is none does the nearest traversable cell serve. A target pressed
 //    into a nook between furniture and an unseen wall is where scan returns
@@ -130,7 +130,9 @@ struct FrontierScratch {
   Costmap costmap;  // updated incrementally between maps (same costs as a fresh one)
   ReachableCells reachable;
   std::vector<CellIndex> target_offsets;  // step 4's search window, nearest offsets first
-  cv::Mat known_free, free_distance;      // step 4's room to stand (target_clearance_m)
+  // Step 4's room to stand: the offsets to check (RoomOffsets) and what they were made for.
+  std::vector<CellIndex> room_offsets;
+  double room_m = 0.0, room_resolution_m = 0.0;
 };
 
 // What the last extraction found and dropped.

@@ -677,14 +677,15 @@ std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const Reacha
 }
 
 // Step 4 by brute force, as the header states it: first only the cells with room_m of clearance
-// (centre to edge) to every cell that is not known free, then any (room_m 0: any at once).
+// (centre to edge) to every cell that is not known free or off the map, then any (room_m 0: any
+// at once).
 std::optional<CellIndex> BruteForceTarget(const OccupancyGrid& map, const ReachableCells& reachable,
                                           const Frontier& f, double radius_m, double room_m) {
   auto has_room = [&](CellIndex cell) {
     const int reach = static_cast<int>(std::ceil(room_m / kRes)) + 1;
     for (int row = cell.row - reach; row <= cell.row + reach; ++row) {
       for (int col = cell.col - reach; col <= cell.col + reach; ++col) {
-        if (!map.Contains({col, row}) || map.at({col, row}) == kF) continue;
+        if (map.Contains({col, row}) && map.at({col, row}) == kF) continue;
         if (std::hypot(col - cell.col, row - cell.row) * kRes - kRes / 2 < room_m) return false;
       }
     }
