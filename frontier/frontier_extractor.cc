@@ -502,15 +502,15 @@ std::vector<Frontier> FindFrontiers(const OccupancyGrid& map, Point2d robot_m,
   m.reachable.Compute(m.costmap, map.WorldToCell(robot_m), options.global_planner);
   const ReachableCells& reachability = m.reachable;
   s.used_planner_search = reachability.used_planner_search();
-  if (options.target_clearance_m <= 0.0) {
-    m.room_offsets.clear();
-  } else if (m.room_resolution_m != map.resolution_m() ||
-             m.room_m != options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
-                             options.target_clearance_m) {
+  const double room_m = options.target_clearance_m > 0.0
+                            ? options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
+                                  options.target_clearance_m
+                            : 0.0;
+  if (room_m != m.room_m || map.resolution_m() != m.room_resolution_m) {
+    m.room_m = room_m;
     m.room_resolution_m = map.resolution_m();
-    m.room_m = options.costmap.robot_radius_m + options.costmap.clearance_margin_m +
-               options.target_clearance_m;
-    m.room_offsets = RoomOffsets(m.room_m, m.room_resolution_m);
+    m.room_offsets.clear();
+    if (room_m > 0.0) m.room_offsets = RoomOffsets(room_m, map.resolution_m());
   }
   for (std::vector<CellIndex>& segment : segments) {
     Frontier frontier;

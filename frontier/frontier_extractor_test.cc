@@ -320,6 +320,16 @@ TEST(FindFrontiers, TargetOfANookStepsBackToWhereTheRobotHasRoom) {
             Distance(pressed[0].target_m, pressed[0].centroid_m));
   EXPECT_LE(Distance(roomy[0].target_m, roomy[0].centroid_m), options.target_radius_m);
   ExpectTargetsReachable(map, kRoomCentre, roomy);
+
+  // Buffers kept between extractions follow the option as it changes.
+  FrontierScratch scratch;
+  for (const double target_clearance_m : {0.15, 0.0, 0.15}) {
+    options.target_clearance_m = target_clearance_m;
+    const std::vector<Frontier> again = FindFrontiers(map, kRoomCentre, options, nullptr, &scratch);
+    ASSERT_EQ(again.size(), 1u);
+    const Point2d expected = target_clearance_m > 0.0 ? roomy[0].target_m : pressed[0].target_m;
+    EXPECT_EQ(Distance(again[0].target_m, expected), 0.0) << target_clearance_m;
+  }
 }
 
 TEST(FindFrontiers, FrontiersTheRobotCannotReachAreDropped) {
