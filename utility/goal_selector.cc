@@ -87,6 +87,10 @@ void GoalSelectorOptions::Validate() const {
   if (!(pocket_max_area_m2 >= 0.0) || !std::isfinite(pocket_max_area_m2)) {
     ThrowBadOption("pocket_max_area_m2", pocket_max_area_m2, "must be finite and >= 0 (0: off)");
   }
+  if (!(pocket_near_m >= 0.0) || !std::isfinite(pocket_near_m)) {
+    ThrowBadOption("pocket_near_m", pocket_near_m,
+                   "must be finite and >= 0 (0: every pocket waits)");
+  }
   if (!(goal_snap_m >= 0.0) || !std::isfinite(goal_snap_m)) {
     ThrowBadOption("goal_snap_m", goal_snap_m, "must be finite and >= 0");
   }
@@ -181,6 +185,7 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
     }
   }
 
+  std::vector<std::size_t> near_pockets;
   for (std::size_t i = 0; i < frontiers.size(); ++i) {
     const Frontier& frontier = frontiers[i];
     FrontierScore& s = decision.scores[i];
@@ -209,6 +214,7 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
       s.eligibility = Eligibility::kBlacklisted;
     } else if (s.pocket) {
       s.eligibility = Eligibility::kPocket;
+      if (s.path_length_m <= options_.pocket_near_m) near_pockets.push_back(i);
     } else if (options_.max_path_length_m > 0.0 && s.path_length_m > options_.max_path_length_m) {
       s.eligibility = Eligibility::kTooFar;
     }
@@ -237,6 +243,15 @@ GoalDecision GoalSelector::Decide(const OccupancyGrid& map, const Pose2d& robot,
 
     s.total = kMinusInf;
     if (s.eligible()) Consider(i, /*nearest_first=*/false, &decision);
+  }
+  // A pocket this near is cleared now, nearest first, rather than by a trip back at the end:
+  // it takes the goal from the method's choice.
+  if (!near_pockets.empty()) {
+    decision.chosen_index = -1;
+    for (const std::size_t i : near_pockets) {
+      decision.scores[i].eligibility = Eligibility::kEligible;
+      Consider(i, /*nearest_first=*/true, &decision);
+    }
   }
   // Neither the length limit nor pockets ever end exploration: frontiers past the limit are
   // chosen from only when no nearer one is eligible, pockets (nearest first) after them.

@@ -10,7 +10,8 @@
 //                a frontier nearer than that is eligible
 //   pockets      with pocket_max_area_m2 > 0 (ours), a frontier whose unknown is an
 //                enclosed pocket smaller than that (unknown_pockets.h) is chosen from
-//                only when nothing else is eligible, and then nearest first
+//                only when nothing else is eligible, and then nearest first; one whose
+//                path is at most pocket_near_m is chosen first (nearest first)
 //   fd           total = -path length: the nearest eligible frontier by path
 //   ags          total = U1 (spanning trees of the graph extended by the
 //                hallucinated path to the frontier)
@@ -67,6 +68,10 @@ struct GoalSelectorOptions {
   // Frontiers onto an enclosed unknown pocket smaller than this wait until nothing else is
   // eligible, then go nearest first; 0 = off (what fd and ags always use).
   double pocket_max_area_m2 = 0.0;
+  // A pocket whose planned path is at most this long is not deferred but chosen at once,
+  // nearest first, over the open frontiers: the robot clears a room's pockets while it is
+  // there instead of driving back at the end (0: every pocket waits).
+  double pocket_near_m = 0.0;
   // A target the planner cannot enter (e.g. in the inflated zone) is planned
   // to the reachable cell nearest to it within this distance, as the navigator does.
   double goal_snap_m = 0.5;

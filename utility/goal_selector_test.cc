@@ -433,6 +433,27 @@ TEST(GoalSelectorOurs, PocketsWaitUntilNothingElseIsLeftThenGoNearestFirst) {
   EXPECT_EQ(known.scores[0].bordered_unknown_m2, west.bordered_unknown_m2);
   EXPECT_TRUE(std::isinf(known.scores[1].bordered_unknown_m2));
 
+  // Only the east end (B) shut: a pocket within pocket_near_m by path is chosen at once over
+  // the open west end that U1 + U2 takes; one just beyond it still waits.
+  OccupancyGrid east_shut_map = CorridorWithUnknownOnARay();
+  Fill(&east_shut_map, 80, 12, 80, 27, OccupancyGrid::kOccupied);
+  GoalSelectorOptions near = options;
+  const GoalDecision east_waits = Decide(near, east_shut_map, kCorridorRobot, frontiers, {}, graph);
+  ASSERT_TRUE(east_waits.has_goal());
+  EXPECT_EQ(east_waits.chosen().frontier_id, 1);
+  const FrontierScore& east = east_waits.scores[1];
+  ASSERT_TRUE(east.pocket);
+  near.pocket_near_m = east.path_length_m;
+  const GoalDecision cleared = Decide(near, east_shut_map, kCorridorRobot, frontiers, {}, graph);
+  ASSERT_TRUE(cleared.has_goal());
+  EXPECT_EQ(cleared.chosen().frontier_id, 2);
+  EXPECT_EQ(cleared.num_eligible, 2);
+  EXPECT_DOUBLE_EQ(cleared.chosen().total, -east.path_length_m);
+  EXPECT_FALSE(cleared.scores[0].chosen);
+  near.pocket_near_m = east.path_length_m - 0.01;
+  EXPECT_EQ(Decide(near, east_shut_map, kCorridorRobot, frontiers, {}, graph).chosen().frontier_id,
+            1);
+
   // Both ends shut: only pockets, chosen from nearest first (B's path is the shorter),
   // not by U1 + U2 (which prefers A).
   Fill(&map, 80, 12, 80, 27, OccupancyGrid::kOccupied);
@@ -479,6 +500,14 @@ TEST(GoalSelector, MethodNamesAndBadOptions) {
     ADD_FAILURE() << "a negative pocket_max_area_m2 was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("pocket_max_area_m2"), std::string::npos) << e.what();
+  }
+  GoalSelectorOptions bad_near;
+  bad_near.pocket_near_m = -1.0;
+  try {
+    GoalSelector{bad_near};
+    ADD_FAILURE() << "a negative pocket_near_m was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pocket_near_m"), std::string::npos) << e.what();
   }
 }
 

@@ -56,6 +56,7 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
   u.Read("return_home", &options.return_home);
   u.Read("ours_keeps_vanished_goal", &options.ours_keeps_vanished_goal);
   u.ReadInRange("ours_pocket_max_area_m2", &options.ours_pocket_max_area_m2, 0.0, 1e6);
+  u.ReadInRange("ours_pocket_near_m", &options.ours_pocket_near_m, 0.0, 1e6);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 
@@ -74,6 +75,8 @@ GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options) {
   GoalSelectorOptions selector = options.selector;
   selector.pocket_max_area_m2 =
       selector.method == UtilityMethod::kOurs ? options.ours_pocket_max_area_m2 : 0.0;
+  selector.pocket_near_m =
+      selector.method == UtilityMethod::kOurs ? options.ours_pocket_near_m : 0.0;
   return selector;
 }
 

@@ -26,6 +26,8 @@ struct UtilityOptions {
   bool ours_keeps_vanished_goal = true;
   // ours' selector.pocket_max_area_m2 (goal_selector.h); fd and ags always use 0.
   double ours_pocket_max_area_m2 = 4.0;
+  // ours' selector.pocket_near_m; fd and ags defer no pockets.
+  double ours_pocket_near_m = 3.0;
 };
 
 // The selector's and the manager's options as the configured method uses them: ours' own

@@ -44,6 +44,8 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_EQ(shipped.ours_keeps_vanished_goal, defaults.ours_keeps_vanished_goal);
   EXPECT_DOUBLE_EQ(shipped.ours_pocket_max_area_m2, defaults.ours_pocket_max_area_m2);
   EXPECT_GT(shipped.ours_pocket_max_area_m2, 0.0);
+  EXPECT_DOUBLE_EQ(shipped.ours_pocket_near_m, defaults.ours_pocket_near_m);
+  EXPECT_EQ(s.pocket_near_m, 0.0);
   EXPECT_EQ(s.pocket_max_area_m2, 0.0);  // the method's selector gets it (below)
   EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, d.costmap.robot_radius_m);
   EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, d.costmap.inflation_margin_m);
@@ -130,16 +132,21 @@ TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
 }
 
 TEST(UtilityConfig, OnlyOursDefersPockets) {
-  const UtilityOptions ours = Load("utility:\n  method: ours\n  ours_pocket_max_area_m2: 2.5\n");
+  const std::string pocket_keys = "\n  ours_pocket_max_area_m2: 2.5\n  ours_pocket_near_m: 1.5\n";
+  const UtilityOptions ours = Load("utility:\n  method: ours" + pocket_keys);
   EXPECT_DOUBLE_EQ(ours.ours_pocket_max_area_m2, 2.5);
   EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).pocket_max_area_m2, 2.5);
+  EXPECT_DOUBLE_EQ(ours.ours_pocket_near_m, 1.5);
+  EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).pocket_near_m, 1.5);
   for (const char* other : {"fd", "ags"}) {
-    const UtilityOptions o =
-        Load(std::string("utility:\n  method: ") + other + "\n  ours_pocket_max_area_m2: 2.5\n");
+    const UtilityOptions o = Load(std::string("utility:\n  method: ") + other + pocket_keys);
     EXPECT_EQ(SelectorOptionsForMethod(o).pocket_max_area_m2, 0.0) << other;
+    EXPECT_EQ(SelectorOptionsForMethod(o).pocket_near_m, 0.0) << other;
   }
   EXPECT_THAT(ErrorOf("utility:\n  ours_pocket_max_area_m2: -1\n"),
               AllOf(HasSubstr("utility.ours_pocket_max_area_m2"), HasSubstr("'-1'")));
+  EXPECT_THAT(ErrorOf("utility:\n  ours_pocket_near_m: -3\n"),
+              AllOf(HasSubstr("utility.ours_pocket_near_m"), HasSubstr("'-3'")));
 }
 
 TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {
