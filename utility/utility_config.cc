@@ -50,13 +50,13 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
     u.Fail("distance_unit", "expected m or cells");
   }
   u.ReadInRange("min_distance_m", &s.min_distance_m, 0.0, 100.0);
-  u.ReadInRange("max_path_length_m", &s.max_path_length_m, 0.0, 1e6);
   u.ReadInRange("blacklist_radius_m", &s.blacklist_radius_m, 0.0, 100.0);
   u.ReadInRange("done_timeout_s", &options.done_timeout_s, 0.0, 1e6);
   u.Read("return_home", &options.return_home);
   u.Read("ours_keeps_vanished_goal", &options.ours_keeps_vanished_goal);
   u.ReadInRange("ours_pocket_max_area_m2", &options.ours_pocket_max_area_m2, 0.0, 1e6);
   u.ReadInRange("ours_pocket_near_m", &options.ours_pocket_near_m, 0.0, 1e6);
+  u.ReadInRange("ours_max_path_length_m", &options.ours_max_path_length_m, 0.0, 1e6);
   LoadHallucination(u.Section("hallucination"), &s.hallucination);
   u.CheckAllKeysUsed();
 
@@ -73,10 +73,10 @@ UtilityOptions LoadUtilityOptions(const ConfigReader& u, const NavOptions& nav) 
 
 GoalSelectorOptions SelectorOptionsForMethod(const UtilityOptions& options) {
   GoalSelectorOptions selector = options.selector;
-  selector.pocket_max_area_m2 =
-      selector.method == UtilityMethod::kOurs ? options.ours_pocket_max_area_m2 : 0.0;
-  selector.pocket_near_m =
-      selector.method == UtilityMethod::kOurs ? options.ours_pocket_near_m : 0.0;
+  const bool ours = selector.method == UtilityMethod::kOurs;
+  selector.pocket_max_area_m2 = ours ? options.ours_pocket_max_area_m2 : 0.0;
+  selector.pocket_near_m = ours ? options.ours_pocket_near_m : 0.0;
+  selector.max_path_length_m = ours ? options.ours_max_path_length_m : 0.0;
   return selector;
 }
 

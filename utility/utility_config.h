@@ -28,6 +28,9 @@ struct UtilityOptions {
   double ours_pocket_max_area_m2 = 4.0;
   // ours' selector.pocket_near_m; fd and ags defer no pockets.
   double ours_pocket_near_m = 3.0;
+  // ours' selector.max_path_length_m: the paper's threshold on lengthy frontier paths;
+  // fd and ags always use 0 (no limit).
+  double ours_max_path_length_m = 15.0;
 };
 
 // The selector's and the manager's options as the configured method uses them: ours' own

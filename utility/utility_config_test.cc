@@ -36,7 +36,7 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(s.path_entropy.p_unknown, d.path_entropy.p_unknown);
   EXPECT_DOUBLE_EQ(s.path_entropy.p_known, d.path_entropy.p_known);
   EXPECT_DOUBLE_EQ(s.min_distance_m, 0.25);  // docs/architecture.md §5
-  EXPECT_DOUBLE_EQ(s.max_path_length_m, d.max_path_length_m);
+  EXPECT_EQ(s.max_path_length_m, 0.0);  // the method's selector gets ours_max_path_length_m
   EXPECT_DOUBLE_EQ(s.blacklist_radius_m, d.blacklist_radius_m);
   EXPECT_DOUBLE_EQ(s.goal_snap_m, d.goal_snap_m);
   EXPECT_DOUBLE_EQ(shipped.done_timeout_s, defaults.done_timeout_s);
@@ -46,6 +46,8 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_GT(shipped.ours_pocket_max_area_m2, 0.0);
   EXPECT_DOUBLE_EQ(shipped.ours_pocket_near_m, defaults.ours_pocket_near_m);
   EXPECT_EQ(s.pocket_near_m, 0.0);
+  EXPECT_DOUBLE_EQ(shipped.ours_max_path_length_m, defaults.ours_max_path_length_m);
+  EXPECT_GT(shipped.ours_max_path_length_m, 0.0);
   EXPECT_EQ(s.pocket_max_area_m2, 0.0);  // the method's selector gets it (below)
   EXPECT_DOUBLE_EQ(s.costmap.robot_radius_m, d.costmap.robot_radius_m);
   EXPECT_DOUBLE_EQ(s.costmap.inflation_margin_m, d.costmap.inflation_margin_m);
@@ -131,22 +133,30 @@ TEST(UtilityConfig, ReadsEveryMethodAndTheCellUnit) {
   EXPECT_EQ(ags.selector.hallucination.exclude_newest_nodes, 5);
 }
 
-TEST(UtilityConfig, OnlyOursDefersPockets) {
-  const std::string pocket_keys = "\n  ours_pocket_max_area_m2: 2.5\n  ours_pocket_near_m: 1.5\n";
+TEST(UtilityConfig, OnlyOursDefersPocketsAndLengthyPaths) {
+  const std::string pocket_keys =
+      "\n  ours_pocket_max_area_m2: 2.5\n  ours_pocket_near_m: 1.5\n  ours_max_path_length_m: 12\n";
   const UtilityOptions ours = Load("utility:\n  method: ours" + pocket_keys);
   EXPECT_DOUBLE_EQ(ours.ours_pocket_max_area_m2, 2.5);
   EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).pocket_max_area_m2, 2.5);
   EXPECT_DOUBLE_EQ(ours.ours_pocket_near_m, 1.5);
   EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).pocket_near_m, 1.5);
+  EXPECT_DOUBLE_EQ(ours.ours_max_path_length_m, 12.0);
+  EXPECT_DOUBLE_EQ(SelectorOptionsForMethod(ours).max_path_length_m, 12.0);
   for (const char* other : {"fd", "ags"}) {
     const UtilityOptions o = Load(std::string("utility:\n  method: ") + other + pocket_keys);
     EXPECT_EQ(SelectorOptionsForMethod(o).pocket_max_area_m2, 0.0) << other;
     EXPECT_EQ(SelectorOptionsForMethod(o).pocket_near_m, 0.0) << other;
+    EXPECT_EQ(SelectorOptionsForMethod(o).max_path_length_m, 0.0) << other;
   }
   EXPECT_THAT(ErrorOf("utility:\n  ours_pocket_max_area_m2: -1\n"),
               AllOf(HasSubstr("utility.ours_pocket_max_area_m2"), HasSubstr("'-1'")));
   EXPECT_THAT(ErrorOf("utility:\n  ours_pocket_near_m: -3\n"),
               AllOf(HasSubstr("utility.ours_pocket_near_m"), HasSubstr("'-3'")));
+  EXPECT_THAT(ErrorOf("utility:\n  ours_max_path_length_m: -2\n"),
+              AllOf(HasSubstr("utility.ours_max_path_length_m"), HasSubstr("'-2'")));
+  // The old key, which applied to every method, is gone: a config still using it is told so.
+  EXPECT_THAT(ErrorOf("utility:\n  max_path_length_m: 15\n"), HasSubstr("max_path_length_m"));
 }
 
 TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {
