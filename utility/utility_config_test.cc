@@ -36,7 +36,7 @@ TEST(UtilityConfig, ShippedConfigLoadsAndHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(s.path_entropy.p_unknown, d.path_entropy.p_unknown);
   EXPECT_DOUBLE_EQ(s.path_entropy.p_known, d.path_entropy.p_known);
   EXPECT_DOUBLE_EQ(s.min_distance_m, 0.25);  // docs/architecture.md §5
-  EXPECT_EQ(s.max_path_length_m, 0.0);  // the method's selector gets ours_max_path_length_m
+  EXPECT_EQ(s.max_path_length_m, 0.0);       // the method's selector gets ours_max_path_length_m
   EXPECT_DOUBLE_EQ(s.blacklist_radius_m, d.blacklist_radius_m);
   EXPECT_DOUBLE_EQ(s.goal_snap_m, d.goal_snap_m);
   EXPECT_DOUBLE_EQ(shipped.done_timeout_s, defaults.done_timeout_s);
