@@ -156,7 +156,8 @@ TEST(UtilityConfig, OnlyOursDefersPocketsAndLengthyPaths) {
   EXPECT_THAT(ErrorOf("utility:\n  ours_max_path_length_m: -2\n"),
               AllOf(HasSubstr("utility.ours_max_path_length_m"), HasSubstr("'-2'")));
   // The old key, which applied to every method, is gone: a config still using it is told so.
-  EXPECT_THAT(ErrorOf("utility:\n  max_path_length_m: 15\n"), HasSubstr("max_path_length_m"));
+  EXPECT_THAT(ErrorOf("utility:\n  max_path_length_m: 15\n"),
+              HasSubstr("utility.max_path_length_m"));
 }
 
 TEST(UtilityConfig, BadValuesNameFileKeyAndValue) {
