@@ -493,22 +493,20 @@ TEST(GoalSelector, MethodNamesAndBadOptions) {
   GoalSelectorOptions bad;
   bad.blacklist_radius_m = -1.0;
   EXPECT_THROW(GoalSelector{bad}, std::invalid_argument);
+  auto expect_rejected_naming = [](const GoalSelectorOptions& options, const std::string& field) {
+    try {
+      GoalSelector{options};
+      ADD_FAILURE() << "a negative " << field << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
   GoalSelectorOptions bad_pocket;
   bad_pocket.pocket_max_area_m2 = -0.5;
-  try {
-    GoalSelector{bad_pocket};
-    ADD_FAILURE() << "a negative pocket_max_area_m2 was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("pocket_max_area_m2"), std::string::npos) << e.what();
-  }
+  expect_rejected_naming(bad_pocket, "pocket_max_area_m2");
   GoalSelectorOptions bad_near;
   bad_near.pocket_near_m = -1.0;
-  try {
-    GoalSelector{bad_near};
-    ADD_FAILURE() << "a negative pocket_near_m was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("pocket_near_m"), std::string::npos) << e.what();
-  }
+  expect_rejected_naming(bad_near, "pocket_near_m");
 }
 
 TEST(GoalSelectorTest, PointsToRetryForgiveOnlyWhatBlocksABlacklistedFrontierOnce) {
