@@ -9,7 +9,10 @@
 #include <cerrno>
 #include <chrono>
 #include <climits>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <thread>
 #include <utility>
 
@@ -251,6 +254,30 @@ bool Subprocess::Claim(const ReapedChild& reaped) {
   if (!running() || reaped.pid != pid_) return false;
   OnReaped(reaped.status);
   return true;
+}
+
+CommandResult RunCommand(const std::vector<std::string>& argv) {
+  const char* tmpdir = std::getenv("TMPDIR");
+  std::string path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/aslam-command.XXXXXX";
+  const int fd = mkstemp(path.data());
+  if (fd < 0) throw SpawnError("cannot make a file for the output of " + argv.at(0), errno, false);
+  close(fd);
+  CommandResult result;
+  try {
+    SubprocessOptions options;
+    options.argv = argv;
+    options.output_path = path;
+    result.status = Subprocess::Spawn(options).Wait();
+  } catch (...) {
+    unlink(path.c_str());
+    throw;
+  }
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  result.output = text.str();
+  unlink(path.c_str());
+  return result;
 }
 
 std::optional<ReapedChild> ReapAnyChild() {

@@ -122,6 +122,15 @@ class Subprocess {
   std::optional<ExitStatus> exit_status_;
 };
 
+// A command run to its end: how it ended and what it wrote (stdout and stderr together).
+struct CommandResult {
+  ExitStatus status;
+  std::string output;
+};
+// Runs `argv` (argv[0] a path or a name on PATH) and waits for it; throws SpawnError when it
+// cannot be started.
+CommandResult RunCommand(const std::vector<std::string>& argv);
+
 // Reaps any one ended child of this process (waitpid(-1), never blocking). For a child
 // subreaper (PR_SET_CHILD_SUBREAPER), which orphaned grandchildren come to: a Subprocess among
 // the reaped must be told with Subprocess::Claim.

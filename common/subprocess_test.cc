@@ -206,5 +206,13 @@ TEST(SubprocessTest, OwnGroupEndsWithItsLeaderAndReapAnyChildSeesTheRest) {
   std::remove(log.c_str());
 }
 
+TEST(RunCommandTest, OutputAndExitStatusOfACommandRunToItsEnd) {
+  const CommandResult result = RunCommand({"sh", "-c", "echo out; echo err >&2; exit 4"});
+  EXPECT_EQ(result.status.code, 4);
+  EXPECT_EQ(result.output, "out\nerr\n");
+  EXPECT_TRUE(RunCommand({"true"}).status.success());
+  EXPECT_THROW(RunCommand({"/no/such/program"}), SpawnError);
+}
+
 }  // namespace
 }  // namespace aslam
