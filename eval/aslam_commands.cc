@@ -24,7 +24,10 @@
 #include "common/flags.h"
 #include "common/lcm_util.h"
 #include "common/pose2d.h"
+#include "common/text_format.h"
 #include "eval/bench.h"
+#include "eval/bench_run_list.h"
+#include "eval/bench_slurm.h"
 #include "eval/explore_process.h"
 #include "eval/explore_runner.h"
 #include "eval/log_stats.h"
@@ -67,6 +70,20 @@ DEFINE_int32(jobs, 0, "bench: runs in parallel (0 = the number of cores)");
 DEFINE_bool(plots, true, "bench: draw the figures (python3-matplotlib)");
 DEFINE_bool(report_only, false,
             "bench: run nothing; write the tables and figures of the runs already finished");
+DEFINE_bool(slurm, false,
+            "bench: run on a Slurm cluster, one array job task per run (OUT on a filesystem every "
+            "node shares, this aslam at the same path on every node)");
+DEFINE_string(partition, "", "bench --slurm: sbatch --partition (default: the cluster's)");
+DEFINE_string(time, "",
+              "bench --slurm: sbatch --time per run, e.g. 20:00 (default: the partition's)");
+DEFINE_string(mem, "", "bench --slurm: sbatch --mem per run, e.g. 2G (default: the partition's)");
+DEFINE_string(
+    sbatch_args, "",
+    "bench --slurm: more sbatch options, space-separated, e.g. '--account=lab --qos=low'");
+DEFINE_bool(no_wait, false,
+            "bench --slurm: submit and return; rerun the same command to wait and write the "
+            "reports");
+DEFINE_double(slurm_poll_s, 30.0, "bench --slurm: seconds between squeue calls while waiting");
 DEFINE_bool(return_home, false,
             "explore: when exploration is done, drive back to the start, then end "
             "(utility.return_home)");
@@ -85,6 +102,9 @@ constexpr const char* kUsage =
     "aslam bench --worlds W1,W2 --methods fd,ags,ours,ideal --seeds N --duration SEC [--jobs J]\n"
     "            [--start X,Y,YAW] [--config FILE] [--set KEY=V1,V2 ...] [--noplots]\n"
     "            [--report_only] --out DIR\n"
+    "aslam bench ... --slurm [--partition P] [--time T] [--mem M] [--sbatch_args '...'] "
+    "[--no_wait]\n"
+    "aslam bench-task RUN_LIST N   (one run of a bench's run list: what bench's runs execute)\n"
     "aslam log-stats RUN/run.lcmlog\n"
     "aslam control pause|resume|stop|return_home [--lcm-url URL] [--wait SEC]\n"
     "aslam view RUN_FOLDER [--port N] [--bind ADDR]\n"
@@ -361,12 +381,42 @@ void PrintBenchProgress(const BenchProgress& p, bool terminal) {
   const int done = p.skipped + p.finished + p.failed;
   constexpr int kWidth = 30;
   const int filled = p.total > 0 ? done * kWidth / p.total : 0;
-  std::printf("%s[%s%s] %d/%d runs (%d skipped, %d failed, %d running)  elapsed %s  ETA %s%s",
+  const std::string queued = p.queued > 0 ? Format(", %d queued", p.queued) : "";
+  std::printf("%s[%s%s] %d/%d runs (%d skipped, %d failed, %d running%s)  elapsed %s  ETA %s%s",
               terminal ? "\r" : "", std::string(filled, '#').c_str(),
               std::string(kWidth - filled, '.').c_str(), done, p.total, p.skipped, p.failed,
-              p.running, Clock(p.elapsed_s).c_str(), Clock(p.eta_s).c_str(),
+              p.running, queued.c_str(), Clock(p.elapsed_s).c_str(), Clock(p.eta_s).c_str(),
               terminal ? "\033[K" : "\n");
   std::fflush(stdout);
+}
+
+// --slurm's flags; false after printing why they are refused.
+bool SlurmFlags(SlurmOptions* slurm) {
+  slurm->partition = FLAGS_partition;
+  slurm->time_limit = FLAGS_time;
+  slurm->memory = FLAGS_mem;
+  std::istringstream words(FLAGS_sbatch_args);
+  for (std::string word; words >> word;) slurm->sbatch_args.push_back(word);
+  // --jobs caps the tasks running at once only when given.
+  if (!gflags::GetCommandLineFlagInfoOrDie("jobs").is_default) slurm->max_running = FLAGS_jobs;
+  slurm->wait = !FLAGS_no_wait;
+  slurm->poll_s = FLAGS_slurm_poll_s;
+  try {
+    CheckSlurmOptions(*slurm);
+    return true;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "aslam bench: %s\n", e.what());
+    return false;
+  }
+}
+
+// This executable's path, which bench's runs execute; "" after printing why it is unknown.
+std::string OwnExecutable(const char* command) {
+  char self[4096];
+  const ssize_t length = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (length > 0) return std::string(self, length);
+  std::fprintf(stderr, "aslam %s: cannot find its own executable (/proc/self/exe)\n", command);
+  return "";
 }
 
 int Bench(const std::vector<std::string>& sets) {
@@ -381,24 +431,23 @@ int Bench(const std::vector<std::string>& sets) {
   options.config_file = FLAGS_config;
   options.out_dir = FLAGS_out;
   options.plots = FLAGS_plots;
-  char self[4096];
-  const ssize_t length = readlink("/proc/self/exe", self, sizeof self - 1);
-  if (length <= 0) {
-    std::fprintf(stderr, "aslam bench: cannot find its own executable (/proc/self/exe)\n");
-    return 1;
-  }
-  options.aslam_binary.assign(self, length);
+  options.aslam_binary = OwnExecutable("bench");
+  if (options.aslam_binary.empty()) return 1;
   if (!ParseStartFlag("bench", &options.start)) return 2;
+  SlurmOptions slurm;
+  if (FLAGS_slurm && !SlurmFlags(&slurm)) return 2;
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     const std::vector<BenchRun> runs = PlanBench(options);
     const std::string settings =
         sets.empty() ? "" : std::to_string(PlanSettings(sets).size()) + " settings x ";
+    const std::string where =
+        FLAGS_slurm ? std::string("as a Slurm array job") : Format("%d at a time", options.jobs);
     std::printf(
-        "aslam bench: %zu runs (%s%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %d "
-        "at a time, in %s\n",
+        "aslam bench: %zu runs (%s%zu worlds x %zu methods x %d seeds, %.0f s simulated each), %s, "
+        "in %s\n",
         runs.size(), settings.c_str(), options.worlds.size(), options.methods.size(), options.seeds,
-        options.duration_s, options.jobs, options.out_dir.c_str());
+        options.duration_s, where.c_str(), options.out_dir.c_str());
     std::fflush(stdout);
     if (FLAGS_report_only) {
       const std::vector<std::string> written = WriteBenchReports(options);
@@ -407,8 +456,21 @@ int Bench(const std::vector<std::string>& sets) {
     }
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
-    const BenchSummary summary = RunBench(
-        options, &g_stop, [&](const BenchProgress& p) { PrintBenchProgress(p, terminal); });
+    auto progress = [&](const BenchProgress& p) { PrintBenchProgress(p, terminal); };
+    auto message = [&](const std::string& text) {
+      std::printf("%saslam bench: %s\n", terminal ? "\r\033[K" : "", text.c_str());
+      std::fflush(stdout);
+    };
+    const BenchSummary summary = FLAGS_slurm
+                                     ? RunSlurmBench(options, slurm, &g_stop, progress, message)
+                                     : RunBench(options, &g_stop, progress);
+    if (FLAGS_slurm && !slurm.wait) {
+      std::printf(
+          "aslam bench: %d runs already finished; rerun the same command without --no_wait to "
+          "wait for the rest and write the reports\n",
+          summary.skipped);
+      return 0;
+    }
     if (terminal) std::printf("\n");
     std::printf(
         "aslam bench: %d runs finished now, %d skipped as already finished, %zu failed, in %s "
@@ -416,8 +478,12 @@ int Bench(const std::vector<std::string>& sets) {
         summary.finished, summary.skipped, summary.failed.size(),
         Clock(summary.wall_seconds).c_str(),
         summary.interrupted ? " (interrupted: rerun the same command to resume)" : "");
-    for (const std::string& dir : summary.failed)
-      std::fprintf(stderr, "aslam bench: run failed: see %s/explore.log\n", dir.c_str());
+    for (const FailedRun& failed : summary.failed) {
+      std::string logs;
+      for (const std::string& log : failed.logs) logs += (logs.empty() ? "" : ", ") + log;
+      std::fprintf(stderr, "aslam bench: run failed: %s: %s; see %s\n", RunName(failed.run).c_str(),
+                   failed.why.c_str(), logs.c_str());
+    }
     const std::vector<std::string> written = WriteBenchReports(options);
     PrintWritten(options.out_dir, written, "");
     if (summary.interrupted) return 130;
@@ -426,6 +492,17 @@ int Bench(const std::vector<std::string>& sets) {
     std::fprintf(stderr, "aslam bench: %s\n", e.what());
     return 1;
   }
+}
+
+// `aslam bench-task RUN_LIST N`: one run of a bench's run list (eval/bench_run_list.h).
+int BenchTask(const std::vector<std::string>& args) {
+  if (args.size() != 2) {
+    std::fprintf(stderr, "usage: aslam bench-task RUN_LIST N\n");
+    return 2;
+  }
+  const std::string self = OwnExecutable("bench-task");
+  if (self.empty()) return 1;
+  return ExecBenchTask(self, args[0], args[1]);
 }
 
 int LogStatsCommand(const std::vector<std::string>& paths) {
@@ -533,12 +610,13 @@ int RunAslamCommand(int argc, char** argv) {
       argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0);
   const std::string command = argc >= 2 ? argv[1] : "";
   g_command_line.assign(argv, argv + argc);
-  if (command != "explore" && command != "bench" && command != "log-stats" &&
-      command != "control" && command != "view") {
+  if (command != "explore" && command != "bench" && command != "bench-task" &&
+      command != "log-stats" && command != "control" && command != "view") {
     std::fprintf(help ? stdout : stderr,
                  "usage: aslam <command> [flags]\n\ncommands:\n"
                  "  explore     explore a world, write a run folder\n"
                  "  bench       run the paper's experiment matrix, write its tables and figures\n"
+                 "  bench-task  one run of a bench's run list (what bench runs, here or on Slurm)\n"
                  "  log-stats   CPU per process and LIDAR_SCAN -> CMD_VEL latency of a run's lcm "
                  "log\n"
                  "  control     pause, resume, stop a running exploration, or send it home\n"
@@ -556,7 +634,9 @@ int RunAslamCommand(int argc, char** argv) {
     std::fprintf(stderr, "aslam %s: %s\nusage: %s\n", command.c_str(), e.what(), kUsage);
     return 2;
   }
-  if ((command == "log-stats" || command == "control" || command == "view") && !sets.empty()) {
+  if ((command == "log-stats" || command == "control" || command == "view" ||
+       command == "bench-task") &&
+      !sets.empty()) {
     std::fprintf(stderr, "aslam %s: takes no --set\n", command.c_str());
     return 2;
   }
@@ -566,6 +646,7 @@ int RunAslamCommand(int argc, char** argv) {
   if (command == "log-stats") return LogStatsCommand(std::vector<std::string>(v + 1, v + n));
   if (command == "control") return Control(std::vector<std::string>(v + 1, v + n));
   if (command == "view") return View(std::vector<std::string>(v + 1, v + n));
+  if (command == "bench-task") return BenchTask(std::vector<std::string>(v + 1, v + n));
   if (n > 1) {
     std::fprintf(stderr, "aslam %s: unexpected argument '%s'\n", command.c_str(), v[1]);
     return 2;

@@ -16,7 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/subprocess.h"
-#include "common/text_format.h"
+#include "eval/bench_run_list.h"
 #include "eval/explore_runner.h"
 #include "utility/utility_config.h"
 
@@ -36,32 +36,6 @@ struct RunningChild {
   Clock::time_point started;
   Subprocess process;
 };
-
-// The child's command line: the bench's options for this run.
-std::vector<std::string> ExploreArgv(const BenchOptions& options, const BenchRun& run) {
-  std::vector<std::string> args = {options.aslam_binary,
-                                   "explore",
-                                   "--inproc",
-                                   "--world",
-                                   run.world,
-                                   "--method",
-                                   run.method,
-                                   "--seed",
-                                   std::to_string(run.seed),
-                                   "--duration",
-                                   Format("%.17g", options.duration_s),
-                                   "--out",
-                                   run.dir,
-                                   "--progress",
-                                   "60"};
-  if (!run.config_file.empty()) args.insert(args.end(), {"--config", run.config_file});
-  if (options.start) {
-    args.insert(args.end(), {"--start", Format("%.17g", options.start->x_m) + "," +
-                                            Format("%.17g", options.start->y_m) + "," +
-                                            Format("%.17g", options.start->yaw_rad)});
-  }
-  return args;
-}
 
 // A JSON object's scalars in file order; a nested object's as "outer.inner" (node_cpu_s.slam),
 // an array as its flow text.
@@ -116,6 +90,13 @@ std::string WorldLabel(const std::string& world) {
   return stem;
 }
 
+std::string RunName(const BenchRun& run) {
+  char seed_dir[32];
+  std::snprintf(seed_dir, sizeof seed_dir, "seed_%02d", run.seed);
+  return (run.setting.empty() ? "" : run.setting + "/") + run.world_label + "/" + run.method + "/" +
+         seed_dir;
+}
+
 std::vector<BenchRun> PlanBench(const BenchOptions& options) {
   if (options.worlds.empty()) throw std::invalid_argument("--worlds: no world given");
   if (options.methods.empty()) throw std::invalid_argument("--methods: no method given");
@@ -141,17 +122,14 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options) {
   std::vector<BenchRun> runs;
   for (int seed = 1; seed <= options.seeds; ++seed) {
     for (const BenchSetting& setting : settings) {
-      const std::string runs_dir =
-          options.out_dir + "/runs/" + (setting.label.empty() ? "" : setting.label + "/");
       const std::string config = setting.label.empty()
                                      ? options.config_file
                                      : SettingConfigPath(options.out_dir, setting.label);
       for (const auto& [world, label] : worlds) {
         for (const std::string& method : options.methods) {
-          char seed_dir[32];
-          std::snprintf(seed_dir, sizeof seed_dir, "seed_%02d", seed);
-          runs.push_back({world, label, method, seed,
-                          runs_dir + label + "/" + method + "/" + seed_dir, setting.label, config});
+          BenchRun run{world, label, method, seed, "", setting.label, config};
+          run.dir = options.out_dir + "/runs/" + RunName(run);
+          runs.push_back(std::move(run));
         }
       }
     }
@@ -188,13 +166,17 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
   summary.total = static_cast<int>(runs.size());
 
   std::vector<const BenchRun*> pending;
+  std::vector<RunListEntry> run_list;
   for (const BenchRun& run : runs) {
     if (ReadFinishedRun(run)) {
       ++summary.skipped;
     } else {
       pending.push_back(&run);
+      run_list.push_back(MakeRunListEntry(options, run));
     }
   }
+  const std::string run_list_path = options.out_dir + "/run_list.tsv";
+  WriteRunList(run_list_path, run_list);
 
   std::list<RunningChild> running;
   std::vector<double> run_wall_s;
@@ -220,11 +202,13 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
     on_progress(p);
   };
 
-  auto spawn = [&](const BenchRun& run) {
+  auto spawn = [&](std::size_t index) {
+    const BenchRun& run = *pending[index];
     fs::create_directories(run.dir);
     SubprocessOptions spawn;
-    spawn.argv = ExploreArgv(options, run);
+    spawn.argv = BenchTaskArgv(options.aslam_binary, run_list_path, static_cast<int>(index));
     spawn.output_path = run.dir + "/explore.log";
+    spawn.append_output = true;  // a rerun keeps the failed attempt's output above its own
     try {
       Subprocess process = Subprocess::Spawn(spawn);
       running.push_back({&run, Clock::now(), std::move(process)});
@@ -244,7 +228,7 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
       for (RunningChild& child : running) child.process.Signal(SIGINT);
     }
     while (!stopping && next < pending.size() && static_cast<int>(running.size()) < options.jobs) {
-      spawn(*pending[next++]);
+      spawn(next++);
       report();
     }
     bool any_ended = false;
@@ -258,12 +242,14 @@ BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop
       const double wall_s = Since(it->started);
       it = running.erase(it);
       any_ended = true;
-      const bool ok = status->success() && ReadFinishedRun(run).has_value();
-      if (ok) {
+      const bool finished = ReadFinishedRun(run).has_value();
+      if (status->success() && finished) {
         ++summary.finished;
         run_wall_s.push_back(wall_s);
       } else if (!stopping) {
-        summary.failed.push_back(run.dir);
+        const std::string why =
+            status->success() ? "ended without a finished metrics.json" : status->Describe();
+        summary.failed.push_back({run, why, {run.dir + "/explore.log"}});
       }
       report();
     }

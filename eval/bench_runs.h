@@ -2,8 +2,9 @@
 
 // `aslam bench`'s run scheduling: the world × method × seed matrix (per setting of a
 // --set sweep, eval/bench_settings.h), which of its runs have finished (so an
-// interrupted bench resumes where it stopped), and running the others as
-// `aslam explore --inproc` children, J at a time, each writing its own run folder
+// interrupted bench resumes where it stopped), and running the others on this machine
+// (`--jobs`; a cluster's: eval/bench_slurm.h) as `aslam bench-task` children
+// (eval/bench_run_list.h), J at a time, each writing its own run folder
 // OUT/runs/<world>/<method>/seed_<NN>/ (with --set: OUT/runs/<setting>/<world>/...)
 // with the child's output in explore.log.
 
@@ -57,15 +58,23 @@ struct BenchProgress {
   int finished = 0;  // finished by this invocation
   int failed = 0;
   int running = 0;
+  int queued = 0;  // waiting for a cluster's resources (--slurm)
   double elapsed_s = 0.0;
   double eta_s = -1.0;  // < 0: unknown yet
+};
+
+// A run that ended without a finished metrics.json.
+struct FailedRun {
+  BenchRun run;
+  std::string why;                // how it ended, e.g. "exit code 1"
+  std::vector<std::string> logs;  // what to read: RUN/explore.log, and a Slurm task's log
 };
 
 struct BenchSummary {
   int total = 0;
   int skipped = 0;
   int finished = 0;
-  std::vector<std::string> failed;  // run folders whose child exited non-zero
+  std::vector<FailedRun> failed;
   bool interrupted = false;
   double wall_seconds = 0.0;
 };
@@ -74,6 +83,10 @@ struct BenchSummary {
 std::string ResolveWorld(const std::string& world);
 // runs/<label> name of a world: its folder name or its MAP.yaml's stem.
 std::string WorldLabel(const std::string& world);
+
+// The run's folder under OUT/runs/, e.g. "office/fd/seed_01" or
+// "utility.lambda=0.3/office/fd/seed_01": how messages name it.
+std::string RunName(const BenchRun& run);
 
 // The matrix in run order: seed by seed, each seed on every setting, world and
 // method, so a partial matrix stays balanced across them. Throws
@@ -84,8 +97,9 @@ std::vector<BenchRun> PlanBench(const BenchOptions& options);
 // but "interrupted").
 std::optional<RunRecord> ReadFinishedRun(const BenchRun& run);
 
-// Writes each setting's config (WriteSettingConfigs), then runs every unfinished
-// run; `stop` (Ctrl-C) stops the children and returns.
+// Writes each setting's config (WriteSettingConfigs) and the unfinished runs' list to
+// OUT/run_list.tsv (eval/bench_run_list.h), then runs each as an `aslam bench-task` child, J at
+// a time; `stop` (Ctrl-C) stops the children and returns.
 BenchSummary RunBench(const BenchOptions& options, const std::atomic<bool>* stop,
                       const std::function<void(const BenchProgress&)>& on_progress);
 

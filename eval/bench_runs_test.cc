@@ -146,7 +146,11 @@ TEST(RunBenchTest, SweepResumesPerSetting) {
   const BenchSummary summary = RunBench(options, nullptr, {});
   EXPECT_EQ(summary.total, 4);
   EXPECT_EQ(summary.skipped, 2);
-  EXPECT_EQ(summary.failed, (std::vector<std::string>{runs[1].dir, runs[2].dir}));
+  ASSERT_EQ(summary.failed.size(), 2u);
+  EXPECT_EQ(summary.failed[0].run.dir, runs[1].dir);
+  EXPECT_EQ(summary.failed[1].run.dir, runs[2].dir);
+  EXPECT_EQ(summary.failed[0].why, "ended without a finished metrics.json");
+  EXPECT_EQ(summary.failed[0].logs, (std::vector<std::string>{runs[1].dir + "/explore.log"}));
   EXPECT_TRUE(fs::exists(options.out_dir + "/settings/utility.lambda=0.6/config.yaml"));
 
   options.sweep = {"utility.lambda=0.6,1.2"};  // other values: only lambda 0.6's run counts

@@ -1,0 +1,186 @@
+#!/usr/bin/env bash
+# `aslam bench --slurm` on a one-node Slurm cluster of its own: munged, slurmctld and slurmd
+# from Debian's packages with a generated slurm.conf in a temporary folder, in a network
+# namespace of their own. A 3-run bench through it reports the same as with --jobs 2; a rerun
+# submits only the missing and failed runs and names the failure and its task log; a bench
+# submitted with --no_wait is waited for by a rerun, not submitted twice. Everything is torn
+# down at the end. Exits 77 (skipped) without root or the packages (scripts/install-deps --slurm).
+#   slurm_bench_test.sh SOURCE_DIR BUILD_DIR
+set -uo pipefail
+src="$1"
+build="$2"
+skip() {
+  echo "skipped: $*"
+  exit 77
+}
+[[ $(id -u) -eq 0 ]] || skip "needs root (slurmd starts each job as its user)"
+for command in munged slurmctld slurmd sbatch squeue scontrol sinfo; do
+  command -v "$command" >/dev/null ||
+    skip "$command not found: scripts/install-deps --slurm installs munge, slurmctld, slurmd, slurm-client"
+done
+# The daemons listen on every address of a network namespace that holds nothing else.
+if [[ -z "${ASLAM_SLURM_TEST_NETNS:-}" ]]; then
+  unshare -n true 2>/dev/null || skip "unshare -n is not permitted here"
+  ASLAM_SLURM_TEST_NETNS=1 exec unshare -n "$0" "$@"
+fi
+source "$src/tests/check_lib.sh"
+# Slurm resolves names with AI_ADDRCONFIG, which finds no address on a bare loopback: a veth
+# pair inside the namespace gives it one.
+ip link set lo up && ip link add aslam-s0 type veth peer name aslam-s1 &&
+  ip addr add 10.254.0.1/24 dev aslam-s0 && ip link set aslam-s0 up && ip link set aslam-s1 up ||
+  { echo "FAILED: cannot set up the namespace's network"; exit 1; }
+
+cluster=$(mktemp -d)
+chmod 755 "$cluster"
+stop_cluster() {
+  for pid_file in slurmd.pid slurmctld.pid munge/munged.pid; do
+    [[ -s "$cluster/$pid_file" ]] && kill "$(cat "$cluster/$pid_file")" 2>/dev/null
+  done
+  for _ in $(seq 50); do
+    pgrep -f "$cluster" >/dev/null || break
+    sleep 0.1
+  done
+  rm -rf "$cluster"
+}
+trap stop_cluster EXIT
+fail_setup() {
+  echo "FAILED: $1"
+  tail -n 20 "$cluster"/log/*.log
+  exit 1
+}
+
+mkdir -p "$cluster/munge" "$cluster/state" "$cluster/spool" "$cluster/log" "$cluster/bench"
+chmod 700 "$cluster/munge"
+head -c 1024 /dev/urandom >"$cluster/munge/munge.key"
+chmod 400 "$cluster/munge/munge.key"
+munged --key-file="$cluster/munge/munge.key" --socket="$cluster/munge/munge.socket" \
+  --pid-file="$cluster/munge/munged.pid" --seed-file="$cluster/munge/munged.seed" \
+  --log-file="$cluster/log/munged.log" --force || fail_setup "munged did not start"
+node=$(hostname -s)
+cat >"$cluster/slurm.conf" <<EOF
+ClusterName=aslamtest
+SlurmctldHost=$node(127.0.0.1)
+SlurmUser=root
+AuthType=auth/munge
+AuthInfo=socket=$cluster/munge/munge.socket
+CredType=cred/munge
+StateSaveLocation=$cluster/state
+SlurmdSpoolDir=$cluster/spool
+SlurmctldPidFile=$cluster/slurmctld.pid
+SlurmdPidFile=$cluster/slurmd.pid
+SlurmctldLogFile=$cluster/log/slurmctld.log
+SlurmdLogFile=$cluster/log/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+SchedulerType=sched/builtin
+MpiDefault=none
+ReturnToService=2
+NodeName=$node NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
+PartitionName=test Nodes=$node Default=YES MaxTime=INFINITE State=UP
+EOF
+export SLURM_CONF="$cluster/slurm.conf"
+slurmctld -i -f "$SLURM_CONF" || fail_setup "slurmctld did not start"
+slurmd -f "$SLURM_CONF" || fail_setup "slurmd did not start"
+for _ in $(seq 60); do
+  [[ "$(sinfo --noheader --format=%T 2>/dev/null)" == idle ]] && break
+  sleep 0.5
+done
+[[ "$(sinfo --noheader --format=%T 2>/dev/null)" == idle ]] || fail_setup "the node is not idle"
+echo "a one-node cluster is up: $(sinfo --noheader --format='%P %D %T %c')"
+
+aslam="$build/eval/aslam"
+out="$cluster/bench"
+bench=("$aslam" bench --worlds test --methods fd,ags,ours --seeds 1 --duration 40
+  --config "$src/config/aslam.yaml" --noplots)
+# The reports agree: the tables and curves as they are, runs.csv but for the run folder, wall and
+# CPU time (the only columns that differ between two runs of one seed).
+same_reports() {
+  local a="$1" b="$2" file
+  for file in table1.md table2.md coverage.md comparison.md goals.md curves.csv; do
+    cmp "$a/$file" "$b/$file" || return 1
+  done
+  python3 - "$a/runs.csv" "$b/runs.csv" <<'EOF'
+import csv, re, sys
+def rows(path):
+    table = list(csv.reader(open(path)))
+    keep = [i for i, name in enumerate(table[0])
+            if not re.match(r"run_dir$|wall_seconds$|sim_per_cpu|node_cpu_s\.", name)]
+    return [[row[i] for i in keep] for row in table]
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+if a != b or len(a) != 4:
+    sys.exit(f"runs.csv differ or do not hold 3 runs:\n{a}\n{b}")
+EOF
+}
+count_lines() { grep -c "$1" "$2" 2>/dev/null || true; }
+
+"${bench[@]}" --jobs 2 --out "$out/local" >"$out/local.txt" 2>&1
+check "the bench with --jobs 2 finishes its 3 runs" test $? -eq 0
+"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/cluster.txt" 2>&1
+rc=$?
+cat "$out/cluster.txt"
+check "the bench with --slurm exits 0" test "$rc" -eq 0
+check "... submitting one array job of 3 runs" \
+  test "$(count_lines 'submitted array job [0-9]*: 3 runs' "$out/cluster.txt")" -eq 1
+check "... whose run list holds the 3 runs" \
+  test "$(grep -c "^$out/cluster/runs/test/" "$out/cluster/slurm/001/run_list.tsv")" -eq 3
+check "... and each task's log names its host and exit status 0" \
+  test "$(cat "$out"/cluster/slurm/001/task_*.log | count_lines "ended with exit status 0 on $node" -)" -eq 3
+check "the report equals the --jobs 2 bench's" same_reports "$out/local" "$out/cluster"
+
+# A rerun submits only what is missing or failed: ags' metrics.json gone, ours' run made to fail
+# (its explore.log is a folder: the task cannot write it).
+rm "$out/cluster/runs/test/ags/seed_01/metrics.json" "$out/cluster/runs/test/ours/seed_01/metrics.json"
+mv "$out/cluster/runs/test/ours/seed_01/explore.log" "$out/ours_explore.log"
+mkdir "$out/cluster/runs/test/ours/seed_01/explore.log"
+"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/rerun.txt" 2>&1
+rc=$?
+cat "$out/rerun.txt"
+check "a rerun with a failing run exits 1" test "$rc" -eq 1
+check "... submitting the 2 unfinished runs only" \
+  test "$(count_lines 'submitted array job [0-9]*: 2 runs' "$out/rerun.txt")" -eq 1
+check "... reruns ags" test -s "$out/cluster/runs/test/ags/seed_01/metrics.json"
+check "... names the failed run, its task and both logs" grep -q \
+  "run failed: test/ours/seed_01: array job [0-9]* task 1: aslam bench: task 1 ended with exit status 1 .*; see $out/cluster/slurm/002/task_1.log, $out/cluster/runs/test/ours/seed_01/explore.log" \
+  "$out/rerun.txt"
+check "... whose task log says why" grep -q "explore.log: Is a directory" \
+  "$out/cluster/slurm/002/task_1.log"
+
+# --no_wait submits and returns; a rerun while the job is queued (its partition down) waits for
+# that job instead of submitting the run again.
+rmdir "$out/cluster/runs/test/ours/seed_01/explore.log"
+scontrol update PartitionName=test State=DOWN
+"${bench[@]}" --slurm --no_wait --out "$out/cluster" >"$out/no_wait.txt" 2>&1
+rc=$?
+cat "$out/no_wait.txt"
+check "--no_wait exits 0 at once" test "$rc" -eq 0
+check "... having submitted the failed run" \
+  test "$(count_lines 'submitted array job [0-9]*: 1 runs' "$out/no_wait.txt")" -eq 1
+job=$(cat "$out/cluster/slurm/003/job_id")
+check "... which is queued" test "$(squeue --noheader --jobs="$job" --format=%T)" == PENDING
+"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/attach.txt" 2>&1 &
+attached=$!
+for _ in $(seq 50); do
+  grep -q "waiting for array job $job" "$out/attach.txt" && break
+  sleep 0.2
+done
+scontrol update PartitionName=test State=UP
+wait "$attached"
+rc=$?
+cat "$out/attach.txt"
+check "the rerun waits for job $job and exits 0" test "$rc" -eq 0
+check "... without submitting anything" test "$(count_lines 'submitted' "$out/attach.txt")" -eq 0
+check "... says it waits for the earlier job" grep -q "waiting for array job $job of an earlier" \
+  "$out/attach.txt"
+check "no fourth submission" test ! -e "$out/cluster/slurm/004"
+check "the report equals the --jobs 2 bench's again" same_reports "$out/local" "$out/cluster"
+"${bench[@]}" --slurm --report_only --out "$out/cluster" >"$out/report_only.txt" 2>&1
+check "--report_only writes the reports without submitting" \
+  test "$(count_lines 'submitted' "$out/report_only.txt")" -eq 0
+check "... and they are the same" same_reports "$out/local" "$out/cluster"
+
+echo "$passes passed, $failures failed"
+((failures == 0))
