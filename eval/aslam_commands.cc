@@ -436,6 +436,18 @@ int Bench(const std::vector<std::string>& sets) {
   if (!ParseStartFlag("bench", &options.start)) return 2;
   SlurmOptions slurm;
   if (FLAGS_slurm && !SlurmFlags(&slurm)) return 2;
+  for (const char* flag : {"partition", "time", "mem", "sbatch_args", "no_wait", "slurm_poll_s"}) {
+    if (!FLAGS_slurm && !gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
+      std::fprintf(stderr, "aslam bench: --%s is an option of --slurm, which is not given\n", flag);
+      return 2;
+    }
+  }
+  for (const char* flag : {"partition", "time", "mem", "sbatch_args", "no_wait", "slurm_poll_s"}) {
+    if (!FLAGS_slurm && !gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
+      std::fprintf(stderr, "aslam bench: --%s is an option of --slurm, which is not given\n", flag);
+      return 2;
+    }
+  }
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     const std::vector<BenchRun> runs = PlanBench(options);

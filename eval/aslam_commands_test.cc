@@ -145,6 +145,39 @@ TEST(DurationFlagTest, InfNanNegativeAndZeroAreRefusedNamingTheValue) {
   EXPECT_THAT(output, HasSubstr("--duration -5"));
 }
 
+// --slurm's options are refused without --slurm or with a bad value, naming the flag, before
+// anything is written; a machine without sbatch is told which package has it.
+TEST(BenchSlurmFlagsTest, RefusedNamingTheFlagAndAMissingSbatchNamesItsPackage) {
+  const std::string out = FreshTestTempDir("slurm_flags");
+  const std::vector<std::string> bench = {"bench", "--worlds", "test",        "--methods",
+                                          "fd",    "--seeds",  "1",           "--duration",
+                                          "10",    "--out",    out + "/bench"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = bench;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  for (const std::string flag : {"--partition=short", "--time=10", "--mem=2G", "--no_wait"}) {
+    const auto [code, output] = Aslam(out + "/flag.log", with({flag}));
+    EXPECT_EQ(code, 2) << flag << ": " << output;
+    EXPECT_THAT(output, HasSubstr("is an option of --slurm, which is not given")) << flag;
+  }
+  const auto [bad_code, bad_output] = Aslam(out + "/bad.log", with({"--slurm", "--mem=2 G"}));
+  EXPECT_EQ(bad_code, 2) << bad_output;
+  EXPECT_THAT(bad_output, HasSubstr("--mem '2 G'"));
+  EXPECT_FALSE(fs::exists(out + "/bench"));
+
+  SubprocessOptions spawn;
+  spawn.argv = {ASLAM_BINARY};
+  const std::vector<std::string> args = with({"--slurm"});
+  spawn.argv.insert(spawn.argv.end(), args.begin(), args.end());
+  spawn.env["PATH"] = out;  // no sbatch, squeue or scontrol here
+  spawn.output_path = out + "/no_sbatch.log";
+  EXPECT_EQ(Subprocess::Spawn(spawn).Wait().CodeOrMinusSignal(), 1);
+  EXPECT_THAT(ReadFile(spawn.output_path),
+              AllOf(HasSubstr("cannot run sbatch"), HasSubstr("slurm-client")));
+}
+
 // `aslam log-stats` on a recorded log cut short in the middle of an event: the figures of what
 // it read, and a warning naming the file and the byte where reading stopped.
 TEST(LogStatsCommandTest, TruncatedLogWarnsNamingTheFileAndTheOffset) {

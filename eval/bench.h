@@ -2,9 +2,10 @@
 
 // `aslam bench`: the paper's experiment (Tables I and II, Figs. 3–5) as one
 // command. Runs the world × method × seed matrix in-process, each run an
-// `aslam explore --inproc` child process writing its own run folder, J at a
-// time; a run whose folder holds a finished metrics.json is skipped, so an
-// interrupted bench resumes where it stopped (eval/bench_runs.h). Then
+// `aslam bench-task` child (eval/bench_run_list.h) running `aslam explore
+// --inproc` into its own run folder, J at a time (or as a Slurm array job:
+// eval/bench_slurm.h); a run whose folder holds a finished metrics.json is
+// skipped, so an interrupted bench resumes where it stopped (eval/bench_runs.h). Then
 // aggregates every finished run into the reports (eval/bench_report.h, with
 // eval/stats.h) and figures (eval/bench_plots.h: matplotlib, eval/bench_plots.py).
 //

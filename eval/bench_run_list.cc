@@ -71,7 +71,8 @@ std::string JoinArgv(const std::vector<std::string>& argv) {
 // True when descriptors a and b are the same file (a local bench's child already writes to
 // explore.log).
 bool SameFile(int a, int b) {
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   return fstat(a, &sa) == 0 && fstat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
          sa.st_ino == sb.st_ino;
 }
@@ -79,7 +80,7 @@ bool SameFile(int a, int b) {
 }  // namespace
 
 RunListEntry MakeRunListEntry(const BenchOptions& options, const BenchRun& run) {
-  return {Absolute(run.dir), Absolute(run.world), run.method,   run.seed,
+  return {Absolute(run.dir),  Absolute(run.world),       run.method,   run.seed,
           options.duration_s, Absolute(run.config_file), options.start};
 }
 
@@ -211,9 +212,9 @@ int ExecBenchTask(const std::string& aslam_binary, const std::string& list,
     const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (log < 0) throw std::runtime_error(log_path + ": " + std::strerror(errno));
     const std::vector<std::string> argv = ExploreArgv(aslam_binary, entry);
-    const std::string header = Format("=== aslam bench-task: run %ld of %s on %s at %s\n%s\n", n,
-                                      list.c_str(), Hostname().c_str(), UtcNow().c_str(),
-                                      JoinArgv(argv).c_str());
+    const std::string header =
+        Format("=== aslam bench-task: run %ld of %s on %s at %s\n%s\n", n, list.c_str(),
+               Hostname().c_str(), UtcNow().c_str(), JoinArgv(argv).c_str());
     if (!SameFile(log, STDOUT_FILENO)) {
       // A Slurm task's own log: which run, where its output goes.
       std::printf("%s(output in %s)\n", header.c_str(), log_path.c_str());

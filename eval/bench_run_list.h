@@ -51,6 +51,7 @@ std::vector<std::string> BenchTaskArgv(const std::string& aslam_binary, const st
 // host to RUN/explore.log, sends stdout and stderr there and execs `aslam explore --inproc`
 // (ExploreArgv). A run that has already finished is not run again: returns 0. Returns only
 // without exec: 0 for a finished run, else 1 after printing why to stderr.
-int ExecBenchTask(const std::string& aslam_binary, const std::string& list, const std::string& index);
+int ExecBenchTask(const std::string& aslam_binary, const std::string& list,
+                  const std::string& index);
 
 }  // namespace aslam

@@ -61,7 +61,7 @@ TEST(RunListTest, EntriesCarryAbsolutePathsAndTheBenchOptions) {
   BenchOptions options;
   options.duration_s = 600.0;
   options.start = Pose2d{1.0, 2.0, 0.5};
-  const BenchRun run{"worlds/office", "office", "fd", 3, "out/runs/office/fd/seed_03", "",
+  const BenchRun run{"worlds/office",    "office", "fd", 3, "out/runs/office/fd/seed_03", "",
                      "config/aslam.yaml"};
   const RunListEntry entry = MakeRunListEntry(options, run);
   EXPECT_EQ(entry.dir, (fs::current_path() / "out/runs/office/fd/seed_03").string());
@@ -94,15 +94,15 @@ TEST(RunListTest, AFieldWithATabIsRefusedByName) {
 
 TEST(RunListTest, MalformedListsNameFileAndLine) {
   const std::string dir = TestTempDir();
-  const std::string header =
-      "# comment\ndir\tworld\tmethod\tseed\tduration_s\tconfig\tstart\n";
+  const std::string header = "# comment\ndir\tworld\tmethod\tseed\tduration_s\tconfig\tstart\n";
   const std::string good = "/d\t/w\tfd\t1\t60\t\t\n";
   auto write = [&](const std::string& name, const std::string& text) {
     WriteFile(dir + "/" + name, text);
     return dir + "/" + name;
   };
   EXPECT_THAT(ErrorOf(dir + "/missing.tsv"), HasSubstr("missing.tsv: No such file"));
-  EXPECT_THAT(ErrorOf(write("no_header.tsv", good)), HasSubstr("no_header.tsv:1: expected the header"));
+  EXPECT_THAT(ErrorOf(write("no_header.tsv", good)),
+              HasSubstr("no_header.tsv:1: expected the header"));
   EXPECT_THAT(ErrorOf(write("empty.tsv", "")), HasSubstr("empty.tsv: no header line"));
   EXPECT_THAT(ErrorOf(write("fields.tsv", header + good + "/d\t/w\tfd\t1\n")),
               HasSubstr("fields.tsv:4: expected 7 tab-separated fields, got 4"));
@@ -158,7 +158,8 @@ TEST(ExecBenchTaskTest, ExecsExploreWithItsOutputAppendedToTheRunsLog) {
   EXPECT_EQ(log.rfind("an earlier attempt\n=== aslam bench-task: run 1 of " + list + " on ", 0), 0u)
       << log;
   EXPECT_THAT(log, HasSubstr("\nargs: explore --inproc --world /w --method ags --seed 2 "
-                             "--duration 60 --out " + run_dir + " --progress 60\noops\n"));
+                             "--duration 60 --out " +
+                             run_dir + " --progress 60\noops\n"));
   EXPECT_FALSE(fs::exists(dir + "/other"));
 }
 

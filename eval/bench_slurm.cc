@@ -183,8 +183,8 @@ void CheckSlurmOptions(const SlurmOptions& slurm) {
   if (slurm.max_running < 0)
     throw std::invalid_argument("--jobs with --slurm must be >= 0 (0: no limit)");
   if (!(slurm.poll_s > 0.0) || !std::isfinite(slurm.poll_s))
-    throw std::invalid_argument(Format("--slurm_poll_s %g: must be a number of seconds > 0",
-                                       slurm.poll_s));
+    throw std::invalid_argument(
+        Format("--slurm_poll_s %g: must be a number of seconds > 0", slurm.poll_s));
 }
 
 std::string SlurmArraySpec(int count, int max_running) {
@@ -267,7 +267,8 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
   if (options.aslam_binary.empty()) throw std::invalid_argument("RunSlurmBench: no aslam binary");
   WriteSettingConfigs(options.config_file, PlanSettings(options.sweep), options.out_dir);
   const Clock::time_point start = Clock::now();
-  const std::string slurm_dir = fs::absolute(options.out_dir).lexically_normal().string() + "/slurm";
+  const std::string slurm_dir =
+      fs::absolute(options.out_dir).lexically_normal().string() + "/slurm";
   auto message = [&](const std::string& text) {
     if (on_message) on_message(text);
   };
@@ -323,8 +324,8 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
     }
     const auto flight = in_flight.find(MakeRunListEntry(options, run).dir);
     if (flight != in_flight.end()) {
-      tracked.push_back({&run, flight->second.first->job_id, flight->second.second,
-                         flight->second.first->dir});
+      tracked.push_back(
+          {&run, flight->second.first->job_id, flight->second.second, flight->second.first->dir});
     } else {
       to_submit.push_back(&run);
     }
@@ -387,8 +388,10 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
       summary.interrupted = true;
       std::string jobs;
       for (const std::string& id : waited_jobs) jobs += " " + id;
-      message("stopped waiting; the array jobs keep running: rerun the same command to wait for "
-              "them again, or `scancel" + jobs + "` to stop them");
+      message(
+          "stopped waiting; the array jobs keep running: rerun the same command to wait for "
+          "them again, or `scancel" +
+          jobs + "` to stop them");
       break;
     }
     const std::optional<std::vector<SlurmQueuedTask>> now = queued_tasks();
@@ -421,14 +424,15 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
       std::string why = LastLine(task_log);
       if (why.empty()) why = "its task left no log";
       summary.failed.push_back(
-          {*t.run, "array job " + t.job_id + " task " + std::to_string(t.task) + ": " + why,
+          {*t.run,
+           "array job " + t.job_id + " task " + std::to_string(t.task) + ": " + why,
            {task_log, t.run->dir + "/explore.log"}});
     }
     report(running, queued);
     if (open == 0) break;
     const Clock::time_point poll_end =
-        Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                           std::chrono::duration<double>(slurm.poll_s));
+        Clock::now() +
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(slurm.poll_s));
     while (Clock::now() < poll_end && !(stop && stop->load()))
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }

@@ -27,13 +27,13 @@
 namespace aslam {
 
 struct SlurmOptions {
-  std::string partition;             // sbatch --partition; "" = the cluster's default
-  std::string time_limit;            // sbatch --time per task, e.g. 30 or 1:00:00; "" = default
-  std::string memory;                // sbatch --mem per task, e.g. 2G; "" = default
-  int max_running = 0;               // tasks at a time (the array's %N); 0 = as many as fit
+  std::string partition;                 // sbatch --partition; "" = the cluster's default
+  std::string time_limit;                // sbatch --time per task, e.g. 30 or 1:00:00; "" = default
+  std::string memory;                    // sbatch --mem per task, e.g. 2G; "" = default
+  int max_running = 0;                   // tasks at a time (the array's %N); 0 = as many as fit
   std::vector<std::string> sbatch_args;  // more sbatch options, e.g. --account=lab
-  bool wait = true;                  // wait for the jobs, then write the reports
-  double poll_s = 30.0;              // between squeue calls while waiting (a cluster's courtesy)
+  bool wait = true;                      // wait for the jobs, then write the reports
+  double poll_s = 30.0;  // between squeue calls while waiting (a cluster's courtesy)
 };
 
 // Throws std::invalid_argument naming the option: a value with whitespace or a '#', a negative

@@ -28,8 +28,9 @@ TEST(SlurmJobScriptTest, OneTaskPerRunThroughBenchTask) {
                                             "/shared/out dir/slurm/001/run_list.tsv", 30);
   EXPECT_EQ(script.rfind("#!/bin/bash\n", 0), 0u);
   for (const std::string line :
-       {"#SBATCH --job-name=aslam-bench\n", "#SBATCH --array=0-29%4\n", "#SBATCH --partition=short\n",
-        "#SBATCH --time=20:00\n", "#SBATCH --mem=2G\n", "#SBATCH --cpus-per-task=1\n",
+       {"#SBATCH --job-name=aslam-bench\n", "#SBATCH --array=0-29%4\n",
+        "#SBATCH --partition=short\n", "#SBATCH --time=20:00\n", "#SBATCH --mem=2G\n",
+        "#SBATCH --cpus-per-task=1\n",
         // Paths quoted for the shell: a space stays inside its argument.
         "'/opt/aslam/build/eval/aslam' bench-task '/shared/out dir/slurm/001/run_list.tsv' "
         "\"$SLURM_ARRAY_TASK_ID\"\n",

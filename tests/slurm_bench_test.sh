@@ -1,99 +1,24 @@
 #!/usr/bin/env bash
-# `aslam bench --slurm` on a one-node Slurm cluster of its own: munged, slurmctld and slurmd
-# from Debian's packages with a generated slurm.conf in a temporary folder, in a network
-# namespace of their own. A 3-run bench through it reports the same as with --jobs 2; a rerun
-# submits only the missing and failed runs and names the failure and its task log; a bench
-# submitted with --no_wait is waited for by a rerun, not submitted twice. Everything is torn
-# down at the end. Exits 77 (skipped) without root or the packages (scripts/install-deps --slurm).
+# `aslam bench --slurm` on a one-node Slurm cluster of its own (scripts/slurm-one-node: munged,
+# slurmctld and slurmd from Debian's packages with a generated slurm.conf in a temporary folder,
+# in a network namespace of their own). A 3-run bench through it reports the same as with
+# --jobs 2; a rerun submits only the missing and failed runs and names the failure and its task
+# log; a bench submitted with --no_wait is waited for by a rerun, not submitted twice. The
+# cluster is torn down at the end. Exits 77 (skipped) without root or the packages
+# (scripts/install-deps --slurm).
 #   slurm_bench_test.sh SOURCE_DIR BUILD_DIR
 set -uo pipefail
 src="$1"
 build="$2"
-skip() {
-  echo "skipped: $*"
-  exit 77
-}
-[[ $(id -u) -eq 0 ]] || skip "needs root (slurmd starts each job as its user)"
-for command in munged slurmctld slurmd sbatch squeue scontrol sinfo; do
-  command -v "$command" >/dev/null ||
-    skip "$command not found: scripts/install-deps --slurm installs munge, slurmctld, slurmd, slurm-client"
-done
-# The daemons listen on every address of a network namespace that holds nothing else.
-if [[ -z "${ASLAM_SLURM_TEST_NETNS:-}" ]]; then
-  unshare -n true 2>/dev/null || skip "unshare -n is not permitted here"
-  ASLAM_SLURM_TEST_NETNS=1 exec unshare -n "$0" "$@"
-fi
+# The cluster: scripts/slurm-one-node runs this script again inside it (77 where it cannot).
+[[ -n "${SLURM_CONF:-}" && -n "${ASLAM_SLURM_ONE_NODE_NETNS:-}" ]] ||
+  exec "$src/scripts/slurm-one-node" "$0" "$@"
 source "$src/tests/check_lib.sh"
-# Slurm resolves names with AI_ADDRCONFIG, which finds no address on a bare loopback: a veth
-# pair inside the namespace gives it one.
-ip link set lo up && ip link add aslam-s0 type veth peer name aslam-s1 &&
-  ip addr add 10.254.0.1/24 dev aslam-s0 && ip link set aslam-s0 up && ip link set aslam-s1 up ||
-  { echo "FAILED: cannot set up the namespace's network"; exit 1; }
-
-cluster=$(mktemp -d)
-chmod 755 "$cluster"
-stop_cluster() {
-  for pid_file in slurmd.pid slurmctld.pid munge/munged.pid; do
-    [[ -s "$cluster/$pid_file" ]] && kill "$(cat "$cluster/$pid_file")" 2>/dev/null
-  done
-  for _ in $(seq 50); do
-    pgrep -f "$cluster" >/dev/null || break
-    sleep 0.1
-  done
-  rm -rf "$cluster"
-}
-trap stop_cluster EXIT
-fail_setup() {
-  echo "FAILED: $1"
-  tail -n 20 "$cluster"/log/*.log
-  exit 1
-}
-
-mkdir -p "$cluster/munge" "$cluster/state" "$cluster/spool" "$cluster/log" "$cluster/bench"
-chmod 700 "$cluster/munge"
-head -c 1024 /dev/urandom >"$cluster/munge/munge.key"
-chmod 400 "$cluster/munge/munge.key"
-munged --key-file="$cluster/munge/munge.key" --socket="$cluster/munge/munge.socket" \
-  --pid-file="$cluster/munge/munged.pid" --seed-file="$cluster/munge/munged.seed" \
-  --log-file="$cluster/log/munged.log" --force || fail_setup "munged did not start"
 node=$(hostname -s)
-cat >"$cluster/slurm.conf" <<EOF
-ClusterName=aslamtest
-SlurmctldHost=$node(127.0.0.1)
-SlurmUser=root
-AuthType=auth/munge
-AuthInfo=socket=$cluster/munge/munge.socket
-CredType=cred/munge
-StateSaveLocation=$cluster/state
-SlurmdSpoolDir=$cluster/spool
-SlurmctldPidFile=$cluster/slurmctld.pid
-SlurmdPidFile=$cluster/slurmd.pid
-SlurmctldLogFile=$cluster/log/slurmctld.log
-SlurmdLogFile=$cluster/log/slurmd.log
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-JobAcctGatherType=jobacct_gather/none
-AccountingStorageType=accounting_storage/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_CPU
-SchedulerType=sched/builtin
-MpiDefault=none
-ReturnToService=2
-NodeName=$node NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
-PartitionName=test Nodes=$node Default=YES MaxTime=INFINITE State=UP
-EOF
-export SLURM_CONF="$cluster/slurm.conf"
-slurmctld -i -f "$SLURM_CONF" || fail_setup "slurmctld did not start"
-slurmd -f "$SLURM_CONF" || fail_setup "slurmd did not start"
-for _ in $(seq 60); do
-  [[ "$(sinfo --noheader --format=%T 2>/dev/null)" == idle ]] && break
-  sleep 0.5
-done
-[[ "$(sinfo --noheader --format=%T 2>/dev/null)" == idle ]] || fail_setup "the node is not idle"
-echo "a one-node cluster is up: $(sinfo --noheader --format='%P %D %T %c')"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
 
 aslam="$build/eval/aslam"
-out="$cluster/bench"
 bench=("$aslam" bench --worlds test --methods fd,ags,ours --seeds 1 --duration 40
   --config "$src/config/aslam.yaml" --noplots)
 # The reports agree: the tables and curves as they are, runs.csv but for the run folder, wall and
@@ -152,7 +77,7 @@ check "... whose task log says why" grep -q "explore.log: Is a directory" \
 # --no_wait submits and returns; a rerun while the job is queued (its partition down) waits for
 # that job instead of submitting the run again.
 rmdir "$out/cluster/runs/test/ours/seed_01/explore.log"
-scontrol update PartitionName=test State=DOWN
+scontrol update PartitionName=local State=DOWN
 "${bench[@]}" --slurm --no_wait --out "$out/cluster" >"$out/no_wait.txt" 2>&1
 rc=$?
 cat "$out/no_wait.txt"
@@ -167,7 +92,7 @@ for _ in $(seq 50); do
   grep -q "waiting for array job $job" "$out/attach.txt" && break
   sleep 0.2
 done
-scontrol update PartitionName=test State=UP
+scontrol update PartitionName=local State=UP
 wait "$attached"
 rc=$?
 cat "$out/attach.txt"
