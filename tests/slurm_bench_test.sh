@@ -41,12 +41,18 @@ if a != b or len(a) != 4:
 EOF
 }
 count_lines() { grep -c "$1" "$2" 2>/dev/null || true; }
+# run_bench NAME ARGS...: the bench with ARGS, its output in $out/NAME.txt and shown; rc its status.
+run_bench() {
+  local name="$1"
+  shift
+  "${bench[@]}" "$@" >"$out/$name.txt" 2>&1
+  rc=$?
+  cat "$out/$name.txt"
+}
 
 "${bench[@]}" --jobs 2 --out "$out/local" >"$out/local.txt" 2>&1
 check "the bench with --jobs 2 finishes its 3 runs" test $? -eq 0
-"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/cluster.txt" 2>&1
-rc=$?
-cat "$out/cluster.txt"
+run_bench cluster --slurm --slurm_poll_s 0.5 --out "$out/cluster"
 check "the bench with --slurm exits 0" test "$rc" -eq 0
 check "... submitting one array job of 3 runs" \
   test "$(count_lines 'submitted array job [0-9]*: 3 runs' "$out/cluster.txt")" -eq 1
@@ -61,9 +67,7 @@ check "the report equals the --jobs 2 bench's" same_reports "$out/local" "$out/c
 rm "$out/cluster/runs/test/ags/seed_01/metrics.json" "$out/cluster/runs/test/ours/seed_01/metrics.json"
 mv "$out/cluster/runs/test/ours/seed_01/explore.log" "$out/ours_explore.log"
 mkdir "$out/cluster/runs/test/ours/seed_01/explore.log"
-"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/rerun.txt" 2>&1
-rc=$?
-cat "$out/rerun.txt"
+run_bench rerun --slurm --slurm_poll_s 0.5 --out "$out/cluster"
 check "a rerun with a failing run exits 1" test "$rc" -eq 1
 check "... submitting the 2 unfinished runs only" \
   test "$(count_lines 'submitted array job [0-9]*: 2 runs' "$out/rerun.txt")" -eq 1
@@ -78,9 +82,7 @@ check "... whose task log says why" grep -q "explore.log: Is a directory" \
 # that job instead of submitting the run again.
 rmdir "$out/cluster/runs/test/ours/seed_01/explore.log"
 scontrol update PartitionName=local State=DOWN
-"${bench[@]}" --slurm --no_wait --out "$out/cluster" >"$out/no_wait.txt" 2>&1
-rc=$?
-cat "$out/no_wait.txt"
+run_bench no_wait --slurm --no_wait --out "$out/cluster"
 check "--no_wait exits 0 at once" test "$rc" -eq 0
 check "... having submitted the failed run" \
   test "$(count_lines 'submitted array job [0-9]*: 1 runs' "$out/no_wait.txt")" -eq 1
