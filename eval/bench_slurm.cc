@@ -86,6 +86,15 @@ struct Submission {
   std::vector<std::string> run_dirs;  // absolute, by task id
 };
 
+std::string ScriptPath(const std::string& submission_dir) { return submission_dir + "/job.sbatch"; }
+
+// Whether `queued` is task `task` (any task: -1) of the submission's job.
+bool IsTaskOf(const SlurmQueuedTask& queued, const std::string& job_id,
+              const std::string& submission_dir, int task) {
+  return queued.job_id == job_id && queued.script == ScriptPath(submission_dir) &&
+         (task < 0 || queued.task == task);
+}
+
 std::vector<Submission> EarlierSubmissions(const std::string& slurm_dir) {
   std::vector<Submission> submissions;
   if (!fs::is_directory(slurm_dir)) return submissions;
@@ -137,7 +146,7 @@ std::string Submit(const SlurmOptions& slurm, const std::string& aslam_binary,
   fs::create_directories(dir);
   const std::string run_list = dir + "/run_list.tsv";
   WriteRunList(run_list, runs);
-  const std::string script = dir + "/job.sbatch";
+  const std::string script = ScriptPath(dir);
   WriteFileAtomically(script,
                       SlurmJobScript(slurm, aslam_binary, run_list, static_cast<int>(runs.size())));
   std::vector<std::string> argv = {"sbatch", "--parsable", "--chdir=" + dir,
@@ -246,14 +255,17 @@ std::vector<SlurmQueuedTask> ParseSqueueTasks(const std::string& output) {
   while (std::getline(in, line)) {
     const std::size_t a = line.find('|');
     const std::size_t b = a == std::string::npos ? a : line.find('|', a + 1);
-    if (b == std::string::npos) continue;
+    const std::size_t c = b == std::string::npos ? b : line.find('|', b + 1);
+    if (c == std::string::npos) continue;
     const std::string job = Trim(line.substr(0, a));
     const std::string task = Trim(line.substr(a + 1, b - a - 1));
     if (job.empty() || task.empty() || job.find_first_not_of("0123456789") != std::string::npos ||
         task.find_first_not_of("0123456789") != std::string::npos) {
       continue;
     }
-    tasks.push_back({job, std::stoi(task), Trim(line.substr(b + 1))});
+    // The script is the rest of the line: a path may hold a '|'.
+    tasks.push_back(
+        {job, std::stoi(task), Trim(line.substr(b + 1, c - b - 1)), Trim(line.substr(c + 1))});
   }
   return tasks;
 }
@@ -277,7 +289,7 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
   int squeue_failures = 0;
   auto queued_tasks = [&]() -> std::optional<std::vector<SlurmQueuedTask>> {
     const CommandResult result = RunSlurmCommand(
-        {"squeue", "--noheader", "--array", "--user=" + UserName(), "--format=%F|%K|%T"});
+        {"squeue", "--noheader", "--array", "--user=" + UserName(), "--format=%F|%K|%T|%o"});
     if (result.status.success()) {
       squeue_failures = 0;
       return ParseSqueueTasks(result.output);
@@ -307,7 +319,7 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
   std::map<std::string, std::pair<const Submission*, int>> in_flight;  // run dir -> job, task
   for (const Submission& submission : earlier) {
     const bool queued = std::any_of(queue.begin(), queue.end(), [&](const SlurmQueuedTask& t) {
-      return t.job_id == submission.job_id;
+      return IsTaskOf(t, submission.job_id, submission.dir, -1);
     });
     if (!queued) continue;
     message("waiting for array job " + submission.job_id + " of an earlier invocation (" +
@@ -408,7 +420,7 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
       ++open;
       if (!now) continue;
       const auto task = std::find_if(now->begin(), now->end(), [&](const SlurmQueuedTask& q) {
-        return q.job_id == t.job_id && q.task == t.task;
+        return IsTaskOf(q, t.job_id, t.submission_dir, t.task);
       });
       if (task != now->end()) {
         t.polls_unqueued = 0;

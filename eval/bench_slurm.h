@@ -54,12 +54,14 @@ std::optional<std::string> ParseSbatchJobId(const std::string& output);
 // `scontrol show config`'s MaxArraySize; nullopt when the text has none.
 std::optional<int> ParseMaxArraySize(const std::string& output);
 
-// A task still in the queue, from `squeue --array --format=%F|%K|%T`: array job id, task id,
-// state (PENDING, RUNNING, COMPLETING, ...).
+// A task still in the queue, from `squeue --array --format=%F|%K|%T|%o`: array job id, task id,
+// state (PENDING, RUNNING, COMPLETING, ...) and the batch script, which tells a bench's job from
+// another of the same id (a restarted controller numbers jobs from 1 again).
 struct SlurmQueuedTask {
   std::string job_id;
   int task = 0;
   std::string state;
+  std::string script;
 };
 // Lines that are not of that form (a plain job's N/A task) are left out.
 std::vector<SlurmQueuedTask> ParseSqueueTasks(const std::string& output);

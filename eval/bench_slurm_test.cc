@@ -65,19 +65,22 @@ TEST(SlurmParseTest, MaxArraySizeFromScontrol) {
 
 TEST(SlurmParseTest, SqueueArrayTasksOnly) {
   const std::vector<SlurmQueuedTask> tasks = ParseSqueueTasks(
-      "812|0|RUNNING\n"
-      "812|1|PENDING\n"
-      "900|N/A|RUNNING\n"  // a plain job of the same user
+      "812|0|RUNNING|/shared/out/slurm/001/job.sbatch\n"
+      "812|1|PENDING|/shared/out/slurm/001/job.sbatch\n"
+      "900|N/A|RUNNING|/home/me/other.sh\n"  // a plain job of the same user
       "garbage\n"
-      "813|17|COMPLETING\n");
+      "812|2|RUNNING\n"  // no script field: not squeue's answer to our format
+      "813|17|COMPLETING|/a|b/job.sbatch\n");
   ASSERT_EQ(tasks.size(), 3u);
   EXPECT_EQ(tasks[0].job_id, "812");
   EXPECT_EQ(tasks[0].task, 0);
   EXPECT_EQ(tasks[0].state, "RUNNING");
+  EXPECT_EQ(tasks[0].script, "/shared/out/slurm/001/job.sbatch");
   EXPECT_EQ(tasks[1].state, "PENDING");
   EXPECT_EQ(tasks[2].job_id, "813");
   EXPECT_EQ(tasks[2].task, 17);
   EXPECT_EQ(tasks[2].state, "COMPLETING");
+  EXPECT_EQ(tasks[2].script, "/a|b/job.sbatch");
 }
 
 TEST(SlurmOptionsTest, BadValuesNameTheirFlag) {
