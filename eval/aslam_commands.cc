@@ -462,6 +462,14 @@ int Bench(const std::vector<std::string>& sets) {
         options.duration_s, where.c_str(), options.out_dir.c_str());
     std::fflush(stdout);
     if (FLAGS_report_only) {
+      const auto finished = std::count_if(runs.begin(), runs.end(), [](const BenchRun& run) {
+        return ReadFinishedRun(run).has_value();
+      });
+      std::printf("aslam bench: %ld of %zu runs finished%s\n", static_cast<long>(finished),
+                  runs.size(),
+                  finished < static_cast<long>(runs.size())
+                      ? "; rerun without --report_only to run the others"
+                      : "");
       const std::vector<std::string> written = WriteBenchReports(options);
       PrintWritten(options.out_dir, written, " from the finished runs");
       return 0;

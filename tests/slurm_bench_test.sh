@@ -107,6 +107,7 @@ check "the report equals the --jobs 2 bench's again" same_reports "$out/local" "
 "${bench[@]}" --slurm --report_only --out "$out/cluster" >"$out/report_only.txt" 2>&1
 check "--report_only writes the reports without submitting" \
   test "$(count_lines 'submitted' "$out/report_only.txt")" -eq 0
+check "... counting the finished runs" grep -q "3 of 3 runs finished$" "$out/report_only.txt"
 check "... and they are the same" same_reports "$out/local" "$out/cluster"
 
 echo "$passes passed, $failures failed"
