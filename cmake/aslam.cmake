@@ -13,10 +13,14 @@ function(aslam_add_test name)
 endfunction()
 
 # aslam_add_benchmark(NAME SOURCES src... LIBS lib...): a Google Benchmark
-# binary; built by default, never run by ctest.
+# binary; built by default (but in a sanitized build, which measures nothing: build it by
+# name there), never run by ctest.
 function(aslam_add_benchmark name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
+  if(ASLAM_SANITIZE)
+    set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL TRUE)
+  endif()
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} benchmark::benchmark)
   target_compile_definitions(${name} PRIVATE ASLAM_SOURCE_DIR="${ASLAM_SOURCE_DIR}")
 endfunction()
