@@ -442,12 +442,6 @@ int Bench(const std::vector<std::string>& sets) {
       return 2;
     }
   }
-  for (const char* flag : {"partition", "time", "mem", "sbatch_args", "no_wait", "slurm_poll_s"}) {
-    if (!FLAGS_slurm && !gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
-      std::fprintf(stderr, "aslam bench: --%s is an option of --slurm, which is not given\n", flag);
-      return 2;
-    }
-  }
   const bool terminal = isatty(STDOUT_FILENO) != 0;
   try {
     const std::vector<BenchRun> runs = PlanBench(options);

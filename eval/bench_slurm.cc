@@ -295,9 +295,10 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
       return ParseSqueueTasks(result.output);
     }
     if (++squeue_failures >= kSqueueAttempts) {
-      throw std::runtime_error(Format("squeue failed %d times in a row (%s): %s", squeue_failures,
-                                      result.status.Describe().c_str(),
-                                      Trim(result.output).c_str()));
+      throw std::runtime_error(Format(
+          "squeue failed %d times in a row (%s): %s; the array jobs may still run: rerun the "
+          "same command to wait for them",
+          squeue_failures, result.status.Describe().c_str(), Trim(result.output).c_str()));
     }
     message("squeue failed (" + result.status.Describe() + "): " + Trim(result.output) +
             "; trying again");
@@ -343,7 +344,6 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
     }
   }
 
-  std::vector<std::string> submitted_jobs;
   if (!to_submit.empty()) {
     const int per_job = MaxArraySize();
     for (std::size_t first = 0; first < to_submit.size(); first += per_job) {
@@ -353,7 +353,6 @@ BenchSummary RunSlurmBench(const BenchOptions& options, const SlurmOptions& slur
         entries.push_back(MakeRunListEntry(options, *to_submit[i]));
       const std::string dir = NextSubmissionDir(slurm_dir);
       const std::string job_id = Submit(slurm, options.aslam_binary, dir, entries);
-      submitted_jobs.push_back(job_id);
       message(Format("submitted array job %s: %zu runs (%s)", job_id.c_str(), last - first,
                      dir.c_str()));
       for (std::size_t i = first; i < last; ++i)
