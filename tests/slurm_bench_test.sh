@@ -3,9 +3,9 @@
 # slurmctld and slurmd from Debian's packages with a generated slurm.conf in a temporary folder,
 # in a network namespace of their own). A 3-run bench through it reports the same as with
 # --jobs 2; a rerun submits only the missing and failed runs and names the failure and its task
-# log; a bench submitted with --no_wait is waited for by a rerun, not submitted twice. The
-# cluster is torn down at the end. Exits 77 (skipped) without root or the packages
-# (scripts/install-deps --slurm).
+# log; a bench submitted with --no_wait is waited for by a rerun (Ctrl-C stops the waiting, not
+# the job), not submitted twice. The cluster is torn down at the end. Exits 77 (skipped) without
+# root or the packages (scripts/install-deps --slurm).
 #   slurm_bench_test.sh SOURCE_DIR BUILD_DIR
 set -uo pipefail
 src="$1"
@@ -88,12 +88,29 @@ check "... having submitted the failed run" \
   test "$(count_lines 'submitted array job [0-9]*: 1 runs' "$out/no_wait.txt")" -eq 1
 job=$(cat "$out/cluster/slurm/003/job_id")
 check "... which is queued" test "$(squeue --noheader --jobs="$job" --format=%T)" == PENDING
+# waiting_for NAME: until $out/NAME.txt says the bench waits for $job (10 s at most).
+waiting_for() {
+  for _ in $(seq 50); do
+    grep -q "waiting for array job $job" "$out/$1.txt" && return 0
+    sleep 0.2
+  done
+  return 1
+}
+# Ctrl-C stops the waiting, not the job.
+"${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/interrupted.txt" 2>&1 &
+waiter=$!
+waiting_for interrupted
+kill -INT "$waiter"
+wait "$waiter"
+rc=$?
+cat "$out/interrupted.txt"
+check "Ctrl-C while waiting exits 130" test "$rc" -eq 130
+check "... saying the job keeps running and how to stop it" \
+  grep -q "stopped waiting; the array jobs keep running: .*scancel $job" "$out/interrupted.txt"
+check "... and it is still queued" test "$(squeue --noheader --jobs="$job" --format=%T)" == PENDING
 "${bench[@]}" --slurm --slurm_poll_s 0.5 --out "$out/cluster" >"$out/attach.txt" 2>&1 &
 attached=$!
-for _ in $(seq 50); do
-  grep -q "waiting for array job $job" "$out/attach.txt" && break
-  sleep 0.2
-done
+waiting_for attach
 scontrol update PartitionName=local State=UP
 wait "$attached"
 rc=$?
