@@ -11,10 +11,10 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <thread>
 #include <utility>
+
+#include "common/text_format.h"
 
 extern char** environ;
 
@@ -272,10 +272,7 @@ CommandResult RunCommand(const std::vector<std::string>& argv) {
     unlink(path.c_str());
     throw;
   }
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  result.output = text.str();
+  result.output = ReadTextFile(path);
   unlink(path.c_str());
   return result;
 }

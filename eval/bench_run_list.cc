@@ -62,12 +62,6 @@ std::string UtcNow() {
   return text;
 }
 
-std::string JoinArgv(const std::vector<std::string>& argv) {
-  std::string text;
-  for (const std::string& arg : argv) text += (text.empty() ? "" : " ") + arg;
-  return text;
-}
-
 // True when descriptors a and b are the same file (a local bench's child already writes to
 // explore.log).
 bool SameFile(int a, int b) {
@@ -214,7 +208,7 @@ int ExecBenchTask(const std::string& aslam_binary, const std::string& list,
     const std::vector<std::string> argv = ExploreArgv(aslam_binary, entry);
     const std::string header =
         Format("=== aslam bench-task: run %ld of %s on %s at %s\n%s\n", n, list.c_str(),
-               Hostname().c_str(), UtcNow().c_str(), JoinArgv(argv).c_str());
+               Hostname().c_str(), UtcNow().c_str(), ShellCommandLine(argv).c_str());
     if (!SameFile(log, STDOUT_FILENO)) {
       // A Slurm task's own log: which run, where its output goes.
       std::printf("%s(output in %s)\n", header.c_str(), log_path.c_str());

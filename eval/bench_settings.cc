@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/atomic_file.h"
+#include "common/text_format.h"
 #include "drivers/sim/sim_config.h"
 #include "frontier/frontier_config.h"
 #include "navigation/nav_config.h"
@@ -20,12 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Trimmed(const std::string& text) {
-  const std::size_t begin = text.find_first_not_of(" \t");
-  if (begin == std::string::npos) return "";
-  return text.substr(begin, text.find_last_not_of(" \t") - begin + 1);
-}
-
 // The config without its comment lines: what two invocations must agree on.
 std::string WithoutComments(const std::string& text) {
   std::istringstream in(text);
@@ -34,13 +28,6 @@ std::string WithoutComments(const std::string& text) {
     if (line.rfind('#', 0) != 0) body += line + "\n";
   }
   return body;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // One --set KEY=V1,V2,... as one override per value.
@@ -79,13 +66,13 @@ std::vector<std::string> SplitSweepValues(const std::string& values) {
     } else if ((c == ']' || c == '}') && depth > 0) {
       --depth;
     } else if (c == ',' && depth == 0) {
-      result.push_back(Trimmed(current));
+      result.push_back(Trim(current));
       current.clear();
       continue;
     }
     current += c;
   }
-  result.push_back(Trimmed(current));
+  result.push_back(Trim(current));
   if (result.size() == 1 && result[0].empty()) result.clear();
   return result;
 }
@@ -169,7 +156,7 @@ void WriteSettingConfigs(const std::string& config_file, const std::vector<Bench
     text += "\n" + ApplyConfigOverrides(config_file, setting.overrides);
     const std::string path = SettingConfigPath(out_dir, setting.label);
     // Runs of a setting must share its config: a resumed bench may not change it under them.
-    if (fs::exists(path) && WithoutComments(ReadText(path)) != WithoutComments(text) &&
+    if (fs::exists(path) && WithoutComments(ReadTextFile(path)) != WithoutComments(text) &&
         fs::exists(out_dir + "/runs/" + setting.label)) {
       throw std::runtime_error(path + " differs from this invocation's config for " +
                                setting.label + " (was --config changed?) and " + out_dir +

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -30,27 +29,8 @@ constexpr int kDefaultMaxArraySize = 1001;
 // squeue failing this many times in a row ends the waiting (the jobs keep running).
 constexpr int kSqueueAttempts = 30;
 
-std::string Trim(const std::string& text) {
-  const std::size_t begin = text.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  return text.substr(begin, text.find_last_not_of(" \t\r\n") - begin + 1);
-}
-
-std::string ShellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::string LastLine(const std::string& path) {
-  std::istringstream in(ReadText(path));
+  std::istringstream in(ReadTextFile(path));
   std::string line, last;
   while (std::getline(in, line)) {
     if (!Trim(line).empty()) last = Trim(line);
@@ -71,12 +51,6 @@ CommandResult RunSlurmCommand(const std::vector<std::string>& argv) {
     throw std::runtime_error(std::string(e.what()) +
                              ": is Slurm's client (Debian: slurm-client) installed and on PATH?");
   }
-}
-
-std::string JoinArgv(const std::vector<std::string>& argv) {
-  std::string text;
-  for (const std::string& arg : argv) text += (text.empty() ? "" : " ") + ShellQuote(arg);
-  return text;
 }
 
 // One array job: a submission folder and its runs in task order.
@@ -100,7 +74,7 @@ std::vector<Submission> EarlierSubmissions(const std::string& slurm_dir) {
   if (!fs::is_directory(slurm_dir)) return submissions;
   for (const auto& entry : fs::directory_iterator(slurm_dir)) {
     const std::string dir = entry.path().string();
-    const std::string job_id = Trim(ReadText(dir + "/job_id"));
+    const std::string job_id = Trim(ReadTextFile(dir + "/job_id"));
     if (job_id.empty()) continue;  // sbatch refused it
     Submission submission{dir, job_id, {}};
     try {
@@ -153,7 +127,7 @@ std::string Submit(const SlurmOptions& slurm, const std::string& aslam_binary,
                                    "--output=" + dir + "/task_%a.log", "--open-mode=append"};
   argv.insert(argv.end(), slurm.sbatch_args.begin(), slurm.sbatch_args.end());
   argv.push_back(script);
-  WriteFileAtomically(dir + "/sbatch.txt", JoinArgv(argv) + "\n");
+  WriteFileAtomically(dir + "/sbatch.txt", ShellCommandLine(argv) + "\n");
   const CommandResult result = RunSlurmCommand(argv);
   const std::optional<std::string> job_id = ParseSbatchJobId(result.output);
   if (!result.status.success() || !job_id) {
@@ -213,7 +187,7 @@ std::string SlurmJobScript(const SlurmOptions& slurm, const std::string& aslam_b
   if (!slurm.partition.empty()) script += "#SBATCH --partition=" + slurm.partition + "\n";
   if (!slurm.time_limit.empty()) script += "#SBATCH --time=" + slurm.time_limit + "\n";
   if (!slurm.memory.empty()) script += "#SBATCH --mem=" + slurm.memory + "\n";
-  script += ShellQuote(aslam_binary) + " bench-task " + ShellQuote(run_list) +
+  script += ShellQuoted(aslam_binary) + " bench-task " + ShellQuoted(run_list) +
             " \"$SLURM_ARRAY_TASK_ID\"\n";
   script += "status=$?\n";
   script +=
